@@ -1,0 +1,40 @@
+# granboltz: the two commands a new user needs are `make reproduce` and `make test`.
+SHELL := /bin/bash
+# Debian's Python first: pyenv's python3 does not see python3-h5py and friends.
+export PATH := /usr/bin:$(PATH)
+BUILD ?= build
+JOBS ?= 2
+PROFILE ?= config/quick.yaml
+
+.PHONY: all deps build test test-cpp test-python reproduce paper bench sanitize clean
+
+all: build
+
+deps:
+	@bash scripts/install-deps.sh
+
+$(BUILD)/CMakeCache.txt:
+	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release
+
+build: $(BUILD)/CMakeCache.txt
+	cmake --build $(BUILD) -j $(JOBS)
+
+## make test: build, then the C++ suite (ctest) and the Python suite (pytest)
+test: deps build test-cpp test-python
+
+test-cpp:
+	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
+test-python:
+	/usr/bin/python3 -m pytest -q tests/python
+
+## make reproduce: every table and figure at reduced size (config/quick.yaml)
+reproduce: deps build
+	snakemake --snakefile workflow/Snakefile --configfile $(PROFILE) --cores $(JOBS) --keep-going
+
+## make paper: the papers' sizes (config/paper.yaml)
+paper: deps build
+	snakemake --snakefile workflow/Snakefile --configfile config/paper.yaml --cores $(JOBS)
+
+clean:
+	rm -rf $(BUILD) results/* figures/* logs benchmarks .snakemake

@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# Installs granboltz's build and pipeline dependencies from Debian packages (no PyPI).
+# Shared by `make reproduce`, `make test` and CI. Skips apt when everything is present.
+set -euo pipefail
+
+PACKAGES=(
+  g++ cmake make pkg-config git
+  libgsl-dev libhdf5-dev libyaml-cpp-dev libcli11-dev libgtest-dev libbenchmark-dev
+  librandom123-dev libpcg-cpp-dev
+  snakemake python3-numpy python3-h5py python3-matplotlib python3-scipy python3-pytest
+  python3-jsonschema python3-yaml
+)
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#PACKAGES[@]} Debian packages present"
+  exit 0
+fi
+
+echo "install-deps: installing ${missing[*]}"
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then
+  command -v sudo >/dev/null || { echo "install-deps: need root or sudo to apt-get install ${missing[*]}" >&2; exit 1; }
+  SUDO=sudo
+fi
+$SUDO apt-get update -qq
+DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"

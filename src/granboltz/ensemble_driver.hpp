@@ -1,0 +1,29 @@
+#pragma once
+// Runs independent ensembles on a pool of threads with dynamic scheduling and reports progress
+// on stderr. Results never depend on the number of threads: each ensemble draws from its own
+// streams and its results are combined with exact, order-independent sums.
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <string>
+
+namespace granboltz {
+
+/// Where a running ensemble publishes how far it got, as a fraction in [0, 1].
+using ProgressSlot = std::atomic<double>;
+
+struct DriverOptions {
+  unsigned threads = 0;        ///< 0: all hardware threads
+  bool progress = true;        ///< report on stderr when the run lasts more than a few seconds
+  std::string label = "run";   ///< shown in progress lines
+};
+
+/// Calls body(e, slot) for every ensemble e in [first, last). The first exception thrown by a
+/// body stops the others and is rethrown here.
+void for_each_ensemble(std::uint64_t first, std::uint64_t last, const DriverOptions& options,
+                       const std::function<void(std::uint64_t, ProgressSlot&)>& body);
+
+/// The number of worker threads that `threads` (0 = all) means on this machine.
+unsigned resolve_threads(unsigned threads, std::uint64_t work_items);
+
+}  // namespace granboltz

@@ -1,0 +1,119 @@
+#pragma once
+// Samplers: small pure functions templated on a 64-bit engine (result_type = uint64_t).
+// No allocation, no I/O. Gaussian and exponential variates use 256-layer ziggurats
+// (Marsaglia & Tsang, J. Stat. Softw. 5(8), 2000), whose tables are built once (ziggurat.cpp).
+#include <cmath>
+#include <cstdint>
+
+#include "granboltz/int128.hpp"
+#include "granboltz/vec3.hpp"
+
+namespace granboltz {
+
+namespace detail {
+struct ZigguratTables {
+  double x[257];  ///< layer edges, x[0] = V/f(R) > x[1] = R > ... > x[256] = 0
+  double f[257];  ///< f(x[i])
+  double ratio[256];  ///< x[i+1]/x[i]: the fraction of layer i inside the density
+};
+extern const ZigguratTables kNormalZiggurat;       // f(x) = exp(-x^2/2)
+extern const ZigguratTables kExponentialZiggurat;  // f(x) = exp(-x)
+}  // namespace detail
+
+/// Uniform on [0, 1) with 53 random bits.
+template <class E>
+inline double uniform01(E& eng) {
+  return static_cast<double>(eng() >> 11) * 0x1.0p-53;
+}
+
+/// Uniform on the open interval (0, 1): never 0, so its logarithm is finite.
+template <class E>
+inline double uniform_open01(E& eng) {
+  return (static_cast<double>(eng() >> 11) + 0.5) * 0x1.0p-53;
+}
+
+/// Uniform integer in [0, range), range >= 1, without bias (Lemire, ACM TOMS 2019).
+template <class E>
+inline std::uint64_t uniform_index(E& eng, std::uint64_t range) {
+  uint128 m = static_cast<uint128>(eng()) * range;
+  auto low = static_cast<std::uint64_t>(m);
+  if (low < range) {
+    const std::uint64_t threshold = (0 - range) % range;
+    while (low < threshold) {
+      m = static_cast<uint128>(eng()) * range;
+      low = static_cast<std::uint64_t>(m);
+    }
+  }
+  return static_cast<std::uint64_t>(m >> 64);
+}
+
+/// Standard normal variate (ziggurat).
+template <class E>
+inline double normal(E& eng) {
+  const auto& z = detail::kNormalZiggurat;
+  for (;;) {
+    const std::uint64_t bits = eng();
+    const unsigned layer = bits & 0xFF;
+    // Signed uniform on [-1, 1) from the top 53 bits.
+    const double u = static_cast<double>(static_cast<std::int64_t>(bits) >> 11) * 0x1.0p-52;
+    if (std::fabs(u) < z.ratio[layer]) return u * z.x[layer];
+    if (layer == 0) {
+      // Tail beyond R = x[1] (Marsaglia 1964).
+      double xt, yt;
+      do {
+        xt = -std::log(uniform_open01(eng)) / z.x[1];
+        yt = -std::log(uniform_open01(eng));
+      } while (yt + yt < xt * xt);
+      return u < 0 ? -(z.x[1] + xt) : z.x[1] + xt;
+    }
+    const double x = u * z.x[layer];
+    const double y = z.f[layer] + uniform01(eng) * (z.f[layer + 1] - z.f[layer]);
+    if (y < std::exp(-0.5 * x * x)) return x;
+  }
+}
+
+/// Exponential variate with rate 1 (ziggurat).
+template <class E>
+inline double exponential(E& eng) {
+  const auto& z = detail::kExponentialZiggurat;
+  double offset = 0.0;
+  for (;;) {
+    const std::uint64_t bits = eng();
+    const unsigned layer = bits & 0xFF;
+    const double u = static_cast<double>(bits >> 11) * 0x1.0p-53;
+    if (u < z.ratio[layer]) return offset + u * z.x[layer];
+    if (layer == 0) {
+      // Memoryless tail: beyond R the density is again exponential.
+      offset += z.x[1];
+      continue;
+    }
+    const double x = u * z.x[layer];
+    const double y = z.f[layer] + uniform01(eng) * (z.f[layer + 1] - z.f[layer]);
+    if (y < std::exp(-x)) return offset + x;
+  }
+}
+
+/// Vector of three independent standard normals.
+template <class E>
+inline Vec3 normal3(E& eng) {
+  const double a = normal(eng);
+  const double b = normal(eng);
+  const double c = normal(eng);
+  return {a, b, c};
+}
+
+/// Uniform direction on S^2 without trigonometry (Marsaglia, Ann. Math. Stat. 43, 1972).
+template <class E>
+inline Vec3 unit_vector(E& eng) {
+  for (;;) {
+    const double a = 2.0 * uniform01(eng) - 1.0;
+    const double b = 2.0 * uniform01(eng) - 1.0;
+    const double s = a * a + b * b;
+    if (s < 1.0) {
+      const double w = 2.0 * std::sqrt(1.0 - s);
+      return {a * w, b * w, 1.0 - 2.0 * s};
+    }
+  }
+}
+
+}  // namespace granboltz

@@ -1,0 +1,90 @@
+// granboltz: command line. Parses arguments, loads the config, dispatches; nothing else.
+#include <CLI/CLI.hpp>
+
+#include <csignal>
+#include <cstdio>
+#include <iostream>
+#include <unistd.h>
+
+#include "granboltz/config.hpp"
+#include "granboltz/merge.hpp"
+#include "granboltz/run.hpp"
+#include "granboltz/version.hpp"
+
+namespace {
+
+// An interrupted run removes its temporary output, so nothing half-written is left behind.
+extern "C" void on_signal(int sig) {
+  const char* tmp = granboltz::current_temporary_output();
+  if (tmp && tmp[0]) ::unlink(tmp);
+  ::_exit(128 + sig);
+}
+
+std::string joined(int argc, char** argv) {
+  std::string s;
+  for (int i = 0; i < argc; ++i) s += (i ? " " : "") + std::string(argv[i]);
+  return s;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"granboltz: DSMC and event-driven simulation of the heated inelastic Boltzmann "
+               "equation (GRW05, RW05, TV06)"};
+  app.set_version_flag("--version", std::string("granboltz ") + granboltz::kVersion + " (" +
+                                        granboltz::kGitSha + ")");
+  app.require_subcommand(1);
+
+  std::string config_path, output;
+  std::vector<std::string> sets, inputs;
+  unsigned threads = 0;
+  bool quiet = false;
+
+  auto* run = app.add_subcommand("run", "run a config and write its HDF5 output");
+  run->add_option("config", config_path, "run config (YAML)")->required();
+  run->add_option("-o,--output", output, "output file (HDF5)")->required();
+  run->add_option("--threads", threads, "worker threads (0: all cores; never changes results)");
+  run->add_option("--set", sets, "override a config key: --set dsmc.particles=1024");
+  run->add_flag("-q,--quiet", quiet, "no progress reports");
+
+  auto* validate = app.add_subcommand("validate", "check a config and print it in full");
+  validate->add_option("config", config_path, "run config (YAML)")->required();
+  validate->add_option("--set", sets, "override a config key");
+
+  auto* merge = app.add_subcommand("merge", "merge the outputs of the shards of one run");
+  merge->add_option("inputs", inputs, "shard outputs (HDF5)")->required();
+  merge->add_option("-o,--output", output, "merged output (HDF5)")->required();
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+  try {
+    if (*merge) {
+      granboltz::merge_outputs(inputs, output);
+      return 0;
+    }
+    granboltz::Config config = granboltz::load_config(config_path, sets);
+    if (*validate) {
+      std::cout << config.to_yaml(false);
+      return 0;
+    }
+    if (run->count("--threads")) config.threads = threads;
+    granboltz::DriverOptions options;
+    options.threads = config.threads;
+    options.progress = !quiet;
+    options.label = config_path;
+    granboltz::run_to_file(config, output, options, joined(argc, argv));
+    return 0;
+  } catch (const granboltz::ConfigError& e) {
+    std::fprintf(stderr, "granboltz: error: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "granboltz: error: %s\n", e.what());
+    return 1;
+  }
+}
