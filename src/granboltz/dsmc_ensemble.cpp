@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "granboltz/collision.hpp"
+#include "granboltz/heating.hpp"
 #include "granboltz/samplers.hpp"
 
 namespace granboltz {
@@ -17,7 +18,7 @@ DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, std::uint64_t seed, std::ui
                            ProgressSlot* progress)
     : c_(config),
       p_(config.particles),
-      noise_(2.0 * config.beta),
+      heated_(config.beta > 0.0),
       track_majorant_(config.kernel.lambda > 0.0),
       events_(make_stream(seed, ensemble, Consumer::kEvents)),
       pairs_(make_stream(seed, ensemble, Consumer::kPairs)),
@@ -58,9 +59,9 @@ void DsmcEnsemble::adapt_majorant_all() {
 }
 
 void DsmcEnsemble::kick(Particle& p, double t) {
-  if (noise_ == 0.0) return;
+  if (!heated_) return;
   const double dt = t - p.t;
-  if (dt > 0.0) p.v += std::sqrt(noise_ * dt) * normal3(events_);
+  if (dt > 0.0) p.v = white_noise_kick(p.v, c_.beta, dt, events_);
   p.t = t;
   ++counts_.kicks;
 }
@@ -96,7 +97,7 @@ void DsmcEnsemble::advance_nosplit(double s) {
     Particle& b = p_[j];
     kick(a, t_);  // GRW05 step 2.5: kick both partners up to the event time
     kick(b, t_);
-    if (track_majorant_ && noise_ > 0.0) {  // step 2.7
+    if (track_majorant_ && heated_) {  // step 2.7
       adapt_majorant(a);
       adapt_majorant(b);
     }
@@ -108,10 +109,10 @@ void DsmcEnsemble::advance_nosplit(double s) {
 }
 
 void DsmcEnsemble::kick_all_to(double s) {
-  if (noise_ > 0.0) {
+  if (heated_) {
     for (auto& q : p_) {
       const double dt = s - q.t;
-      if (dt > 0.0) q.v += std::sqrt(noise_ * dt) * normal3(sweep_);
+      if (dt > 0.0) q.v = white_noise_kick(q.v, c_.beta, dt, sweep_);
       q.t = s;
     }
     counts_.kicks += p_.size();
@@ -137,9 +138,8 @@ void DsmcEnsemble::collide_during(double h) {
 }
 
 void DsmcEnsemble::kick_all_by(double h) {
-  if (noise_ == 0.0) return;
-  const double sd = std::sqrt(noise_ * h);
-  for (auto& q : p_) q.v += sd * normal3(sweep_);
+  if (!heated_) return;
+  for (auto& q : p_) q.v = white_noise_kick(q.v, c_.beta, h, sweep_);
   counts_.kicks += p_.size();
   adapt_majorant_all();
 }

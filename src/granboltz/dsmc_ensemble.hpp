@@ -56,7 +56,7 @@ class DsmcEnsemble {
   Vec3 v0_;              // bulk velocity at t = 0: the centre of the majorant (GRW05 step 1.3)
   double u_max_ = 0.0;   // U_max
   double rate_ = 0.0;    // pi_hat = 2 pi gamma C (n - 1) U_max^lambda
-  double noise_ = 0.0;   // 2 beta
+  bool heated_;          // beta > 0
   bool track_majorant_;  // lambda > 0: U_max matters
   Engine events_, pairs_, sweep_;
   EventCounts counts_;

@@ -59,6 +59,12 @@ void ExactSum::merge(const ExactSum& other) {
 double ExactSum::value() const {
   ExactSum c = *this;
   c.normalize();
+  // A negative sum is stored like a two's complement (top digits all ones): convert its negation.
+  const bool negative = c.limb_[kLimbs - 1] < 0;
+  if (negative) {
+    for (auto& d : c.limb_) d = -d;
+    c.normalize();
+  }
   int top = kLimbs - 1;
   while (top >= 0 && c.limb_[top] == 0) --top;
   if (top < 0) return 0.0;
@@ -66,7 +72,7 @@ double ExactSum::value() const {
   double r = 0.0;
   for (int k = top; k >= 0 && k >= top - 3; --k)
     r += std::ldexp(static_cast<double>(c.limb_[k]), 32 * k - kOffset);
-  return r;
+  return negative ? -r : r;
 }
 
 std::vector<std::int64_t> ExactSum::digits() const {

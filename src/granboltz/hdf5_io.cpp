@@ -194,6 +194,16 @@ std::vector<std::int64_t> H5Reader::read_int64(const std::string& path) const {
   return v;
 }
 
+std::vector<unsigned char> H5Reader::read_bytes(const std::string& path) const {
+  Handle ds{H5Dopen2(file_, path.c_str(), H5P_DEFAULT), H5Dclose};
+  if (ds.id < 0) fail(path_ + ": missing dataset " + path);
+  Handle type{H5Dget_type(ds.id), H5Tclose};
+  std::vector<unsigned char> v(product(dims(path)) * H5Tget_size(type.id));
+  if (!v.empty() && H5Dread(ds.id, type.id, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()) < 0)
+    fail(path_ + ": cannot read dataset " + path);
+  return v;
+}
+
 std::string H5Reader::attr_string(const std::string& object, const std::string& name) const {
   Handle a{H5Aopen_by_name(file_, object.c_str(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT),
            H5Aclose};

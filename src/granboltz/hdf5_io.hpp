@@ -52,6 +52,8 @@ class H5Reader {
   std::vector<double> read_double(const std::string& path) const;
   std::vector<std::uint64_t> read_uint64(const std::string& path) const;
   std::vector<std::int64_t> read_int64(const std::string& path) const;
+  /// The stored bytes of a dataset in its own type, for bit-for-bit comparisons.
+  std::vector<unsigned char> read_bytes(const std::string& path) const;
   std::string attr_string(const std::string& object, const std::string& name) const;
   /// Absolute paths of all datasets, in name order.
   std::vector<std::string> datasets() const;

@@ -1,0 +1,93 @@
+// Config parsing: defaults made explicit, overrides, and errors that name the key.
+#include <gtest/gtest.h>
+
+#include "granboltz/config.hpp"
+
+using namespace granboltz;
+
+namespace {
+const char* kExample3 = R"(
+model: dsmc
+seed: 42
+ensembles: 10
+dsmc:
+  particles: 64
+  alpha: 0.5
+  beta: 1
+  gamma: 4
+  kernel: {lambda: 0, C: 0.0795774715459477}
+  t_end: 8
+  observe_every: 0.25
+)";
+
+std::string error_of(const std::string& text, const std::vector<std::string>& sets = {}) {
+  try {
+    parse_config(text, "test.yaml", sets);
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
+
+TEST(Config, ReadsGRW05Example3WithDefaults) {
+  const Config c = parse_config(kExample3, "test.yaml");
+  EXPECT_EQ(c.model, Model::kDsmc);
+  EXPECT_EQ(c.seed, 42u);
+  EXPECT_EQ(c.dsmc.particles, 64u);
+  EXPECT_EQ(c.dsmc.scheme, Scheme::kNoSplit);
+  EXPECT_EQ(c.dsmc.observations(), 32u);
+  EXPECT_DOUBLE_EQ(c.dsmc.initial_temperature, 1.0);
+  EXPECT_EQ(c.dsmc.majorant, MajorantKind::kGlobal);
+}
+
+TEST(Config, ResolvedYamlReadsBackToTheSameConfig) {
+  const Config c = parse_config(kExample3, "test.yaml");
+  const Config d = parse_config(c.to_yaml(false), "resolved");
+  EXPECT_EQ(c.to_yaml(false), d.to_yaml(false));
+  EXPECT_EQ(d.dsmc.kernel.C, c.dsmc.kernel.C);  // bit for bit
+}
+
+TEST(Config, PhysicsOnlyYamlLeavesOutThreadsAndShards) {
+  const Config c = parse_config(kExample3, "t", {"threads=2", "shard.count=2", "shard.index=1"});
+  EXPECT_EQ(c.to_yaml(true).find("threads"), std::string::npos);
+  EXPECT_EQ(c.to_yaml(true).find("shard"), std::string::npos);
+  EXPECT_NE(c.to_yaml(false).find("threads: 2"), std::string::npos);
+}
+
+TEST(Config, SetOverridesNestedKeysAndCreatesSections) {
+  const Config c = parse_config(kExample3, "t",
+                                {"dsmc.particles=1e4", "dsmc.histogram.shells=8",
+                                 "dsmc.histogram.radius=4", "dsmc.scheme=strang",
+                                 "dsmc.steps=32"});
+  EXPECT_EQ(c.dsmc.particles, 10000u);
+  EXPECT_EQ(c.dsmc.histogram.shells, 8u);
+  EXPECT_EQ(c.dsmc.scheme, Scheme::kStrang);
+  EXPECT_DOUBLE_EQ(c.dsmc.time_step(), 0.25);
+}
+
+TEST(Config, ShardsPartitionTheEnsembles) {
+  std::uint64_t covered = 0;
+  for (int i = 0; i < 3; ++i) {
+    const Config c = parse_config(kExample3, "t",
+                                  {"shard.count=3", "shard.index=" + std::to_string(i)});
+    EXPECT_EQ(c.first_ensemble(), covered);
+    covered = c.last_ensemble();
+  }
+  EXPECT_EQ(covered, 10u);
+}
+
+TEST(Config, ErrorsNameTheKeyTheValueAndWhatIsAllowed) {
+  EXPECT_EQ(error_of(kExample3, {"dsmc.alpha=1.5"}),
+            "dsmc.alpha = 1.5: must satisfy 0 < alpha <= 1");
+  EXPECT_EQ(error_of(kExample3, {"dsmc.partcles=4"}).rfind("dsmc.partcles: unknown key", 0), 0u);
+  EXPECT_EQ(error_of(kExample3, {"dsmc.beta=.nan"}), "dsmc.beta = .nan: must be a finite number");
+  EXPECT_EQ(error_of(kExample3, {"dsmc.particles=12.5"}), "dsmc.particles = 12.5: not an integer");
+  EXPECT_EQ(error_of(kExample3, {"dsmc.scheme=rk4"}),
+            "dsmc.scheme = rk4: must be one of nosplit, euler, strang");
+  EXPECT_EQ(error_of(kExample3, {"dsmc.scheme=euler"}).rfind("dsmc.steps: missing", 0), 0u);
+  EXPECT_EQ(error_of("model: dsmc\nseed: 1\ndsmc: {particles: [1, 2]}\n"),
+            "dsmc.particles = [...]: must be an integer");
+  EXPECT_NE(error_of("model: dsmc\nseed: [1\n").find("YAML syntax error at line"),
+            std::string::npos);
+}

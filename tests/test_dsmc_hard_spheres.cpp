@@ -1,0 +1,77 @@
+// Variable hard spheres (lambda > 0): fictitious collisions must give the exact collision rate.
+//
+// For the elastic, unheated gas started from independent Maxwellian velocities, the law of the
+// particle system is invariant (the Gaussian product measure restricted to each energy-momentum
+// shell is uniform, and elastic collisions preserve it), so at all times the rate of real
+// collisions has expectation (n-1)/2 * 4 pi gamma C E|u|^lambda with u the difference of two
+// independent Maxwellian velocities: E|u|^lambda = (4 T)^(lambda/2) Gamma((3+lambda)/2)/Gamma(3/2).
+#include <gsl/gsl_sf_gamma.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "granboltz/dsmc_run.hpp"
+#include "test_support.hpp"
+
+using namespace granboltz;
+
+namespace {
+
+DsmcResult run_elastic(double lambda, const std::string& update, std::uint64_t seed) {
+  const Config c = parse_config("{}", "test",
+                                {"model=dsmc", "seed=" + std::to_string(seed), "ensembles=400",
+                                 "dsmc.particles=200", "dsmc.alpha=1", "dsmc.beta=0",
+                                 "dsmc.gamma=2", "dsmc.kernel.lambda=" + format_real(lambda),
+                                 "dsmc.kernel.C=0.05", "dsmc.initial.temperature=1.5",
+                                 "dsmc.t_end=2", "dsmc.observe_every=0.5",
+                                 "dsmc.majorant_update=" + update});
+  DriverOptions o;
+  o.progress = false;
+  return run_dsmc(c, o);
+}
+
+double expected_collisions(double lambda, double n, double T, double gamma, double C, double t) {
+  const double mean_u = std::pow(4 * T, lambda / 2) * gsl_sf_gamma((3 + lambda) / 2) /
+                        gsl_sf_gamma(1.5);
+  return (n - 1) / 2 * 4 * M_PI * gamma * C * mean_u * t;
+}
+
+}  // namespace
+
+TEST(HardSpheres, RealCollisionRateMatchesTheKernelForEveryLambdaAndMajorantRule) {
+  const double z = test::family_z(3 * 2);
+  std::uint64_t seed = 500;
+  for (double lambda : {1.0, 0.5, 0.25}) {
+    for (const char* update : {"paper", "strict"}) {
+      const DsmcResult r = run_elastic(lambda, update, ++seed);
+      double sum = 0, sum2 = 0;
+      for (auto c : r.collisions) {
+        sum += static_cast<double>(c);
+        sum2 += static_cast<double>(c) * static_cast<double>(c);
+      }
+      const double N = static_cast<double>(r.collisions.size());
+      const double mean = sum / N, var = sum2 / N - mean * mean;
+      EXPECT_NEAR(mean, expected_collisions(lambda, 200, 1.5, 2, 0.05, 2), z * std::sqrt(var / N))
+          << "lambda=" << lambda << " majorant_update=" << update;
+      // Fictitious collisions happen for lambda > 0, and never outnumber what U_max implies.
+      EXPECT_GT(r.fictitious[0], 0u);
+    }
+  }
+}
+
+TEST(HardSpheres, ElasticCollisionsConserveEnergyAndMomentumInEveryEnsemble) {
+  const DsmcResult r = run_elastic(1.0, "paper", 600);
+  // Variance over ensembles of T(t) - T(0) is round-off only when every ensemble conserves
+  // energy; compare each time's ensemble mean and variance with t = 0.
+  const MeanCi T0 = r.series[4].stats(r.ensembles);
+  for (std::size_t m = 1; m < r.times.size(); ++m) {
+    const MeanCi T = r.series[m * kNumScalars + 4].stats(r.ensembles);
+    EXPECT_NEAR(T.mean, T0.mean, 1e-12);
+    EXPECT_NEAR(T.variance, T0.variance, 1e-12);
+    for (int a = 1; a <= 3; ++a) {
+      const MeanCi V = r.series[m * kNumScalars + a].stats(r.ensembles);
+      const MeanCi V0 = r.series[a].stats(r.ensembles);
+      EXPECT_NEAR(V.mean, V0.mean, 1e-14);
+    }
+  }
+}

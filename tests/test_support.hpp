@@ -1,0 +1,89 @@
+#pragma once
+// Helpers shared by the C++ tests: temporary directories, running the CLI, exact results for
+// Maxwell molecules, and confidence levels.
+#include <gsl/gsl_cdf.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace granboltz::test {
+
+/// A fresh directory removed at the end of the test.
+struct TempDir {
+  std::filesystem::path path;
+  TempDir() {
+    char tmpl[] = "/tmp/granboltz-test-XXXXXX";
+    path = ::mkdtemp(tmpl);
+  }
+  ~TempDir() { std::filesystem::remove_all(path); }
+  std::string file(const std::string& name) const { return (path / name).string(); }
+  std::string write(const std::string& name, const std::string& text) const {
+    std::ofstream(file(name)) << text;
+    return file(name);
+  }
+  /// Number of entries in the directory.
+  std::size_t entries() const {
+    std::size_t n = 0;
+    for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(path)) ++n;
+    return n;
+  }
+};
+
+struct CommandResult {
+  int exit_code;
+  std::string output;  ///< stdout and stderr together
+};
+
+/// Runs the granboltz binary with `args` (a shell-quoted string).
+inline CommandResult run_granboltz(const std::string& args) {
+  const std::string cmd = std::string(GRANBOLTZ_BINARY) + " " + args + " 2>&1";
+  FILE* pipe = ::popen(cmd.c_str(), "r");
+  std::string out;
+  std::array<char, 4096> buf;
+  while (pipe && std::fgets(buf.data(), buf.size(), pipe)) out += buf.data();
+  const int status = pipe ? ::pclose(pipe) : -1;
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+/// The z-value such that `checks` simultaneous two-sided tests have family-wise level 0.999
+/// (Bonferroni). With one check this is 3.29, close to the papers' lambda_p = 3.2.
+inline double family_z(int checks) { return gsl_cdf_ugaussian_Qinv(0.0005 / checks); }
+
+/// Exact results for Maxwell molecules (lambda = 0) with n particles, started from n independent
+/// Maxwellian velocities at temperature T0. kappa = pi gamma C0 (1 - alpha^2).
+struct MaxwellExact {
+  double alpha, beta, gamma, C0, T0;
+  double kappa() const { return M_PI * gamma * C0 * (1 - alpha * alpha); }
+
+  /// GRW05 eq. (16): the n -> infinity temperature.
+  double temperature(double t) const {
+    const double k = kappa();
+    if (k == 0) return T0 + 2 * beta * t;
+    const double Tinf = 2 * beta / k;
+    return T0 * std::exp(-k * t) + Tinf * (1 - std::exp(-k * t));
+  }
+  /// E[T] of the particle system, T centred on the empirical bulk velocity (GRW05 eq. 13):
+  /// the collisions conserve momentum and dissipate on average kappa (3T) per unit time, while
+  /// the kicks move V with variance 2 beta t / n per component. Hence E[T](t) = (1 - 1/n) T(t)
+  /// for the no-splitting scheme.
+  double centred_nosplit(double t, double n) const { return (1 - 1 / n) * temperature(t); }
+  /// E|V|^2 / 3 at time t: initial sampling plus the random walk of the kicks.
+  double bulk_term(double t, double n) const { return (T0 + 2 * beta * t) / n; }
+  /// E[T] of the Euler (strang = false) or Strang splitting scheme after k steps of length dt:
+  /// z_{k+1} = z_k e^{-kappa dt} + 6 beta dt (1 - 1/n) [e^{-kappa dt/2} for Strang], z = 3T.
+  double centred_split(int k, double dt, double n, bool strang) const {
+    double z = 3 * T0 * (1 - 1 / n);
+    const double decay = std::exp(-kappa() * dt);
+    const double gain = 6 * beta * dt * (1 - 1 / n) * (strang ? std::exp(-kappa() * dt / 2) : 1);
+    for (int i = 0; i < k; ++i) z = z * decay + gain;
+    return z / 3;
+  }
+};
+
+}  // namespace granboltz::test
