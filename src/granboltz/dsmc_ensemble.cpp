@@ -23,6 +23,9 @@ DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, std::uint64_t seed, std::ui
       events_(make_stream(seed, ensemble, Consumer::kEvents)),
       pairs_(make_stream(seed, ensemble, Consumer::kPairs)),
       sweep_(make_stream(seed, ensemble, Consumer::kSweep)),
+      events0_(events_),
+      pairs0_(pairs_),
+      sweep0_(sweep_),
       progress_(progress) {
   Engine init = make_stream(seed, ensemble, Consumer::kInitial);
   const double sd = std::sqrt(c_.initial_temperature);
@@ -37,6 +40,11 @@ DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, std::uint64_t seed, std::ui
   for (const auto& q : p_) r2 = std::max(r2, norm2(q.v - v0_));
   u_max_ = 2.0 * std::sqrt(r2);
   update_rate();
+}
+
+std::uint64_t DsmcEnsemble::random_draws() const {
+  // PCG is a linear congruential generator: the distance between two states is exact.
+  return static_cast<std::uint64_t>((events_ - events0_) + (pairs_ - pairs0_) + (sweep_ - sweep0_));
 }
 
 void DsmcEnsemble::update_rate() {

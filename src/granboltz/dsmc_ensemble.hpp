@@ -35,6 +35,9 @@ class DsmcEnsemble {
   double time() const { return t_; }
   double u_max() const { return u_max_; }
   const EventCounts& counts() const { return counts_; }
+  /// Raw 64-bit random numbers drawn since construction by the event loop and the kicks
+  /// (not the initial condition): the work floor that no implementation can go below.
+  std::uint64_t random_draws() const;
 
  private:
   void advance_nosplit(double s);
@@ -59,6 +62,7 @@ class DsmcEnsemble {
   bool heated_;          // beta > 0
   bool track_majorant_;  // lambda > 0: U_max matters
   Engine events_, pairs_, sweep_;
+  Engine events0_, pairs0_, sweep0_;  // the streams' starting points, for random_draws()
   EventCounts counts_;
   ProgressSlot* progress_;
 };
