@@ -6,7 +6,7 @@ set -euo pipefail
 PACKAGES=(
   g++ cmake make pkg-config git
   libgsl-dev libhdf5-dev libyaml-cpp-dev libcli11-dev libgtest-dev libbenchmark-dev
-  librandom123-dev libpcg-cpp-dev
+  librandom123-dev
   snakemake python3-numpy python3-h5py python3-matplotlib python3-scipy python3-pytest
   python3-jsonschema python3-yaml
 )

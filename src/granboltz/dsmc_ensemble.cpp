@@ -23,9 +23,6 @@ DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, std::uint64_t seed, std::ui
       events_(make_stream(seed, ensemble, Consumer::kEvents)),
       pairs_(make_stream(seed, ensemble, Consumer::kPairs)),
       sweep_(make_stream(seed, ensemble, Consumer::kSweep)),
-      events0_(events_),
-      pairs0_(pairs_),
-      sweep0_(sweep_),
       progress_(progress) {
   Engine init = make_stream(seed, ensemble, Consumer::kInitial);
   const double sd = std::sqrt(c_.initial_temperature);
@@ -43,8 +40,7 @@ DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, std::uint64_t seed, std::ui
 }
 
 std::uint64_t DsmcEnsemble::random_draws() const {
-  // PCG is a linear congruential generator: the distance between two states is exact.
-  return static_cast<std::uint64_t>((events_ - events0_) + (pairs_ - pairs0_) + (sweep_ - sweep0_));
+  return events_.draws() + pairs_.draws() + sweep_.draws();
 }
 
 void DsmcEnsemble::update_rate() {

@@ -62,7 +62,6 @@ class DsmcEnsemble {
   bool heated_;          // beta > 0
   bool track_majorant_;  // lambda > 0: U_max matters
   Engine events_, pairs_, sweep_;
-  Engine events0_, pairs0_, sweep0_;  // the streams' starting points, for random_draws()
   EventCounts counts_;
   ProgressSlot* progress_;
 };
