@@ -2,6 +2,7 @@
 // One ensemble of the DSMC particle system for the heated inelastic Boltzmann equation, advanced
 // by one of the three time schemes of RW05: no-splitting (Algorithm 3 = GRW05 §4), Euler
 // splitting (Algorithm 1), Strang splitting (Algorithm 2).
+#include <array>
 #include <atomic>
 #include <cstdint>
 
@@ -40,15 +41,26 @@ class DsmcEnsemble {
   std::uint64_t random_draws() const;
 
  private:
-  void advance_nosplit(double s);
-  void collide_during(double h);   // collision step of length h (splitting schemes)
+  // Collision partners are drawn this many events ahead from their own stream and prefetched;
+  // the stream is consumed in order, so the look-ahead cannot change any result.
+  static constexpr unsigned kLookahead = 16;
+  struct Pair {
+    std::uint32_t i, j;
+  };
+
+  template <bool kHeated, int kLambda>
+  void run_nosplit(double s);
+  template <int kLambda>
+  void collide_during(double h);  // collision step of length h (splitting schemes)
   void kick_all_by(double h);      // kicking step of length h (splitting schemes)
   void kick_all_to(double s);      // kick every particle from its own last time to s
-  void kick(Particle& p, double t);
-  bool try_collide(Particle& a, Particle& b);
+  template <int kLambda>
+  bool accept(double u2);          // real (not fictitious) collision?
   void adapt_majorant(const Particle& a);
   void adapt_majorant_all();
-  void update_rate();
+  void set_majorant(double u_max);
+  Pair draw_pair();
+  Pair next_pair();
   void report(double t) {
     if (progress_) progress_->store(t / c_.t_end, std::memory_order_relaxed);
   }
@@ -56,12 +68,15 @@ class DsmcEnsemble {
   const DsmcConfig& c_;
   Particles p_;
   double t_ = 0.0;
-  Vec3 v0_;              // bulk velocity at t = 0: the centre of the majorant (GRW05 step 1.3)
-  double u_max_ = 0.0;   // U_max
-  double rate_ = 0.0;    // pi_hat = 2 pi gamma C (n - 1) U_max^lambda
-  bool heated_;          // beta > 0
-  bool track_majorant_;  // lambda > 0: U_max matters
+  Vec3 v0_;               // bulk velocity at t = 0: the centre of the majorant (GRW05 step 1.3)
+  double u_max_ = 0.0;    // U_max
+  double u_max2_ = 0.0;   // U_max^2
+  double inv_rate_ = 0.0; // 1 / pi_hat, pi_hat = 2 pi gamma C (n - 1) U_max^lambda
+  double adapt_factor2_;  // (1 or 2)^2: paper or strict majorant update
+  bool heated_;           // beta > 0
   Engine events_, pairs_, sweep_;
+  std::array<Pair, kLookahead> ring_{};
+  unsigned head_ = 0;
   EventCounts counts_;
   ProgressSlot* progress_;
 };

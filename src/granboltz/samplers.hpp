@@ -47,6 +47,28 @@ inline std::uint64_t uniform_index(E& eng, std::uint64_t range) {
   return static_cast<std::uint64_t>(m >> 64);
 }
 
+/// Two independent uniform indices in [0, range_a) and [0, range_b) from one 64-bit draw, each
+/// from 32 bits by Lemire's method with its exact rejection step (ranges below 2^32).
+template <class E>
+inline void uniform_index_pair(E& eng, std::uint32_t range_a, std::uint32_t range_b,
+                               std::uint32_t& a, std::uint32_t& b) {
+  for (;;) {
+    const std::uint64_t bits = eng();
+    const std::uint64_t ma = (bits >> 32) * range_a;
+    const std::uint64_t mb = (bits & 0xFFFFFFFFu) * range_b;
+    // Rejection is needed only when a low part falls below 2^32 mod range: rare for small ranges.
+    if (static_cast<std::uint32_t>(ma) < range_a &&
+        static_cast<std::uint32_t>(ma) < static_cast<std::uint32_t>(-range_a) % range_a)
+      continue;
+    if (static_cast<std::uint32_t>(mb) < range_b &&
+        static_cast<std::uint32_t>(mb) < static_cast<std::uint32_t>(-range_b) % range_b)
+      continue;
+    a = static_cast<std::uint32_t>(ma >> 32);
+    b = static_cast<std::uint32_t>(mb >> 32);
+    return;
+  }
+}
+
 /// Standard normal variate (ziggurat).
 template <class E>
 inline double normal(E& eng) {
@@ -102,12 +124,15 @@ inline Vec3 normal3(E& eng) {
   return {a, b, c};
 }
 
-/// Uniform direction on S^2 without trigonometry (Marsaglia, Ann. Math. Stat. 43, 1972).
+/// Uniform direction on S^2 without trigonometry (Marsaglia, Ann. Math. Stat. 43, 1972). Each
+/// trial takes both coordinates, with 32 random bits each, from one 64-bit draw.
 template <class E>
 inline Vec3 unit_vector(E& eng) {
   for (;;) {
-    const double a = 2.0 * uniform01(eng) - 1.0;
-    const double b = 2.0 * uniform01(eng) - 1.0;
+    const std::uint64_t bits = eng();
+    const double a = static_cast<double>(static_cast<std::int32_t>(bits >> 32)) * 0x1.0p-31 +
+                     0x1.0p-32;
+    const double b = static_cast<double>(static_cast<std::int32_t>(bits)) * 0x1.0p-31 + 0x1.0p-32;
     const double s = a * a + b * b;
     if (s < 1.0) {
       const double w = 2.0 * std::sqrt(1.0 - s);
