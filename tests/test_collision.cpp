@@ -50,6 +50,26 @@ TEST(CollisionMap, ElasticCollisionKeepsTheRelativeSpeed) {
   EXPECT_NEAR(norm(v - w), u, 1e-14);
 }
 
+TEST(WhiteNoiseKick, PairedKicksHaveVariance2BetaSAndAreUncorrelated) {
+  Engine e = make_stream(15, 0, Consumer::kSweep);
+  const double beta = 0.8, sa = 0.5, sb = 2.0;
+  const int n = 200000;
+  double saa = 0, sbb = 0, sab = 0;
+  for (int i = 0; i < n; ++i) {
+    Vec3 a{0, 0, 0}, b{1, 1, 1};
+    white_noise_kick2(a, sa, b, sb, beta, e);
+    b = b - Vec3{1, 1, 1};
+    saa += norm2(a);
+    sbb += norm2(b);
+    sab += dot(a, b);
+  }
+  // Sums of 3n squared normals: relative sd sqrt(2 / (3n)).
+  const double z = test::family_z(3), rel = std::sqrt(2.0 / (3 * n));
+  EXPECT_NEAR(saa / (3 * n), 2 * beta * sa, z * rel * 2 * beta * sa);
+  EXPECT_NEAR(sbb / (3 * n), 2 * beta * sb, z * rel * 2 * beta * sb);
+  EXPECT_NEAR(sab / (3 * n), 0.0, z * 2 * beta * std::sqrt(sa * sb / (3.0 * n)));
+}
+
 TEST(WhiteNoiseKick, HasVariance2BetaSPerComponent) {
   // The sample variance of n kicks: (n-1) S^2 / sigma^2 ~ chi^2_{n-1}.
   Engine e = make_stream(14, 0, Consumer::kSweep);

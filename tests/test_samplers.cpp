@@ -114,3 +114,47 @@ TEST(Samplers, KSTestRejectsAWrongDistribution) {
   auto x = draw([](Engine& e) { return 1.02 * normal(e); }, 400000, 6);
   EXPECT_GT(ks_statistic(x, [](double v) { return gsl_cdf_ugaussian_P(v); }), kKsCritical);
 }
+
+TEST(Samplers, NormalPairGivesTwoIndependentNormals) {
+  Engine e = make_stream(2024, 7, Consumer::kEvents);
+  const int n = 400000;
+  std::vector<double> a(n), b(n);
+  double sab = 0, tail = 0;
+  for (int i = 0; i < n; ++i) {
+    normal_pair(e, a[i], b[i]);
+    sab += a[i] * b[i];
+    tail += (std::fabs(a[i]) > 3.5) + (std::fabs(b[i]) > 3.5);
+  }
+  auto Phi = [](double v) { return gsl_cdf_ugaussian_P(v); };
+  EXPECT_LT(ks_statistic(a, Phi), kKsCritical);
+  EXPECT_LT(ks_statistic(b, Phi), kKsCritical);
+  // Independence of the halves: E[ab] = 0 with variance 1/n.
+  EXPECT_LT(std::fabs(sab / n), test::family_z(2) / std::sqrt(static_cast<double>(n)));
+  // The wedges and the tail of the 128-layer ziggurat: P(|Z| > 3.5) = 4.65e-4.
+  const double expected = 2.0 * n * 2 * gsl_cdf_ugaussian_Q(3.5);
+  EXPECT_LT(std::fabs(tail - expected), test::family_z(2) * std::sqrt(expected));
+}
+
+TEST(Samplers, NormalPairMatchesTheGaussianInTheWedges) {
+  // A chi-square test on fine bins in [2.5, 4.5], where the wedges and the tail matter most.
+  Engine e = make_stream(2024, 8, Consumer::kEvents);
+  const int bins = 20;
+  std::vector<double> counts(bins, 0);
+  const long n = 4000000;
+  for (long i = 0; i < n; ++i) {
+    double a, b;
+    normal_pair(e, a, b);
+    for (double v : {std::fabs(a), std::fabs(b)}) {
+      const int k = static_cast<int>((v - 2.5) / 0.1);
+      if (v >= 2.5 && k < bins) counts[k] += 1;
+    }
+  }
+  double chi2 = 0;
+  for (int k = 0; k < bins; ++k) {
+    const double lo = 2.5 + 0.1 * k;
+    const double p = 2 * (gsl_cdf_ugaussian_Q(lo) - gsl_cdf_ugaussian_Q(lo + 0.1));
+    const double expected = 2.0 * n * p;
+    chi2 += (counts[k] - expected) * (counts[k] - expected) / expected;
+  }
+  EXPECT_LT(chi2, gsl_cdf_chisq_Qinv(0.001, bins));
+}

@@ -42,7 +42,7 @@ DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, std::uint64_t seed, std::ui
   double r2 = 0.0;
   for (const auto& q : p_) r2 = std::max(r2, norm2(q.v - v0_));
   set_majorant(2.0 * std::sqrt(r2));
-  for (auto& pair : ring_) pair = draw_pair();
+  for (auto& pair : ring_) pair = draw_pair(pairs_);
 }
 
 std::uint64_t DsmcEnsemble::random_draws() const {
@@ -66,18 +66,18 @@ void DsmcEnsemble::adapt_majorant_all() {
   for (const auto& q : p_) adapt_majorant(q);
 }
 
-DsmcEnsemble::Pair DsmcEnsemble::draw_pair() {
+DsmcEnsemble::Pair DsmcEnsemble::draw_pair(Engine& pairs) {
   // i uniform on {0..n-1}, j uniform on the others (GRW05 steps 2.3-2.4).
   const auto n = static_cast<std::uint32_t>(p_.size());
   Pair pair;
-  uniform_index_pair(pairs_, n, n - 1, pair.i, pair.j);
+  uniform_index_pair(pairs, n, n - 1, pair.i, pair.j);
   if (pair.j >= pair.i) ++pair.j;
   return pair;
 }
 
-inline DsmcEnsemble::Pair DsmcEnsemble::next_pair() {
+inline DsmcEnsemble::Pair DsmcEnsemble::next_pair(Engine& pairs) {
   const Pair pair = ring_[head_];
-  const Pair ahead = draw_pair();
+  const Pair ahead = draw_pair(pairs);
   ring_[head_] = ahead;
   head_ = (head_ + 1) % kLookahead;
   __builtin_prefetch(&p_[ahead.i], 1);
@@ -86,10 +86,10 @@ inline DsmcEnsemble::Pair DsmcEnsemble::next_pair() {
 }
 
 template <int kLambda>
-inline bool DsmcEnsemble::accept(double u2) {
+inline bool DsmcEnsemble::accept(double u2, Engine& events) {
   // Accept with probability (|u|/U_max)^lambda, 1 when |u| >= U_max (RW05 eq. 19), comparing
   // squares to avoid square roots.
-  const double r = uniform01(events_);
+  const double r = uniform01(events);
   if constexpr (kLambda == kHardSpheres) {
     return r * r * u_max2_ < u2;
   } else if constexpr (kLambda == kHalf) {
@@ -103,17 +103,18 @@ inline bool DsmcEnsemble::accept(double u2) {
 template <bool kHeated, int kLambda>
 void DsmcEnsemble::run_nosplit(double s) {
   const double alpha = c_.alpha, beta = c_.beta;
+  // Local copies of the streams: kept in registers instead of being stored after every draw.
+  Engine ev = events_, pairs = pairs_;
   std::uint64_t events = 0;
   for (;;) {
-    const double tau = exponential(events_) * inv_rate_;  // GRW05 step 2.1
+    const double tau = exponential(ev) * inv_rate_;  // GRW05 step 2.1
     if (t_ + tau >= s) break;
     t_ += tau;
-    const Pair pair = next_pair();
+    const Pair pair = next_pair(pairs);
     Particle& a = p_[pair.i];
     Particle& b = p_[pair.j];
     if constexpr (kHeated) {  // step 2.5: kick both partners up to the event time
-      a.v = white_noise_kick(a.v, beta, t_ - a.t, events_);
-      b.v = white_noise_kick(b.v, beta, t_ - b.t, events_);
+      white_noise_kick2(a.v, t_ - a.t, b.v, t_ - b.t, beta, ev);
       a.t = t_;
       b.t = t_;
       counts_.kicks += 2;
@@ -123,13 +124,13 @@ void DsmcEnsemble::run_nosplit(double s) {
       }
     }
     if constexpr (kLambda != kMaxwell) {  // step 2.8
-      if (!accept<kLambda>(norm2(a.v - b.v))) {
+      if (!accept<kLambda>(norm2(a.v - b.v), ev)) {
         ++counts_.fictitious;
         if ((++events & kProgressMask) == 0) report(t_);
         continue;
       }
     }
-    collide(a.v, b.v, unit_vector(events_), alpha);  // step 2.9
+    collide(a.v, b.v, unit_vector(ev), alpha);  // step 2.9
     ++counts_.collisions;
     if constexpr (kLambda != kMaxwell) {  // step 2.10
       adapt_majorant(a);
@@ -137,14 +138,23 @@ void DsmcEnsemble::run_nosplit(double s) {
     }
     if ((++events & kProgressMask) == 0) report(t_);
   }
+  events_ = ev;
+  pairs_ = pairs;
 }
 
 void DsmcEnsemble::kick_all_to(double s) {
   if (heated_) {
-    for (auto& q : p_) {
-      if (q.t < s) q.v = white_noise_kick(q.v, c_.beta, s - q.t, sweep_);
-      q.t = s;
+    Engine sweep = sweep_;
+    const std::size_t n = p_.size();
+    for (std::size_t k = 0; k + 1 < n; k += 2) {
+      white_noise_kick2(p_[k].v, s - p_[k].t, p_[k + 1].v, s - p_[k + 1].t, c_.beta, sweep);
+      p_[k].t = p_[k + 1].t = s;
     }
+    if (n % 2) {
+      p_[n - 1].v = white_noise_kick(p_[n - 1].v, c_.beta, s - p_[n - 1].t, sweep);
+      p_[n - 1].t = s;
+    }
+    sweep_ = sweep;
     counts_.kicks += p_.size();
     adapt_majorant_all();
   } else {
@@ -155,21 +165,22 @@ void DsmcEnsemble::kick_all_to(double s) {
 template <int kLambda>
 void DsmcEnsemble::collide_during(double h) {
   const double alpha = c_.alpha;
+  Engine ev = events_, pairs = pairs_;
   double t = 0.0;
   std::uint64_t events = 0;
   for (;;) {
-    t += exponential(events_) * inv_rate_;
+    t += exponential(ev) * inv_rate_;
     if (t >= h) break;
-    const Pair pair = next_pair();
+    const Pair pair = next_pair(pairs);
     Particle& a = p_[pair.i];
     Particle& b = p_[pair.j];
     if constexpr (kLambda != kMaxwell) {
-      if (!accept<kLambda>(norm2(a.v - b.v))) {
+      if (!accept<kLambda>(norm2(a.v - b.v), ev)) {
         ++counts_.fictitious;
         continue;
       }
     }
-    collide(a.v, b.v, unit_vector(events_), alpha);
+    collide(a.v, b.v, unit_vector(ev), alpha);
     ++counts_.collisions;
     if constexpr (kLambda != kMaxwell) {
       adapt_majorant(a);
@@ -177,11 +188,18 @@ void DsmcEnsemble::collide_during(double h) {
     }
     if ((++events & kProgressMask) == 0) report(t_ + t);
   }
+  events_ = ev;
+  pairs_ = pairs;
 }
 
 void DsmcEnsemble::kick_all_by(double h) {
   if (!heated_) return;
-  for (auto& q : p_) q.v = white_noise_kick(q.v, c_.beta, h, sweep_);
+  Engine sweep = sweep_;
+  const std::size_t n = p_.size();
+  for (std::size_t k = 0; k + 1 < n; k += 2)
+    white_noise_kick2(p_[k].v, h, p_[k + 1].v, h, c_.beta, sweep);
+  if (n % 2) p_[n - 1].v = white_noise_kick(p_[n - 1].v, c_.beta, h, sweep);
+  sweep_ = sweep;
   counts_.kicks += p_.size();
   adapt_majorant_all();
 }

@@ -55,12 +55,12 @@ class DsmcEnsemble {
   void kick_all_by(double h);      // kicking step of length h (splitting schemes)
   void kick_all_to(double s);      // kick every particle from its own last time to s
   template <int kLambda>
-  bool accept(double u2);          // real (not fictitious) collision?
+  bool accept(double u2, Engine& events);  // real (not fictitious) collision?
   void adapt_majorant(const Particle& a);
   void adapt_majorant_all();
   void set_majorant(double u_max);
-  Pair draw_pair();
-  Pair next_pair();
+  Pair draw_pair(Engine& pairs);
+  Pair next_pair(Engine& pairs);
   void report(double t) {
     if (progress_) progress_->store(t / c_.t_end, std::memory_order_relaxed);
   }

@@ -13,4 +13,16 @@ inline Vec3 white_noise_kick(Vec3 v, double beta, double s, E& eng) {
   return v + std::sqrt(2.0 * beta * s) * normal3(eng);
 }
 
+/// Kicks two velocities, over the times sa and sb, with six normals from (usually) three draws.
+template <class E>
+inline void white_noise_kick2(Vec3& a, double sa, Vec3& b, double sb, double beta, E& eng) {
+  double n[6];
+  normal_pair(eng, n[0], n[1]);
+  normal_pair(eng, n[2], n[3]);
+  normal_pair(eng, n[4], n[5]);
+  const double ka = std::sqrt(2.0 * beta * sa), kb = std::sqrt(2.0 * beta * sb);
+  a += Vec3{ka * n[0], ka * n[1], ka * n[2]};
+  b += Vec3{kb * n[3], kb * n[4], kb * n[5]};
+}
+
 }  // namespace granboltz

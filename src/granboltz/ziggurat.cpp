@@ -27,22 +27,24 @@ double exp_tail(double r) { return std::exp(-r); }
 
 // Builds the layers for base edge r; returns how far the top layer misses closing the ziggurat
 // (zero at the right r, negative when the layers run out early).
-double build(const Shape& s, double r, ZigguratTables* z) {
+template <int N>
+double build(const Shape& s, double r, ZigguratTables<N>* z) {
   const double v = r * s.f(r) + s.tail(r);
   z->x[0] = v / s.f(r);
   z->x[1] = r;
-  for (int i = 1; i < 255; ++i) {
+  for (int i = 1; i < N - 1; ++i) {
     const double y = v / z->x[i] + s.f(z->x[i]);
-    if (y >= 1.0) return -(256.0 - i);
+    if (y >= 1.0) return -(N - i);
     z->x[i + 1] = s.finv(y);
   }
-  z->x[256] = 0.0;
-  return 1.0 - (v / z->x[255] + s.f(z->x[255]));
+  z->x[N] = 0.0;
+  return 1.0 - (v / z->x[N - 1] + s.f(z->x[N - 1]));
 }
 
-ZigguratTables make(const Shape& s, double lo, double hi) {
-  ZigguratTables z{};
-  struct Ctx { const Shape* s; ZigguratTables* z; } ctx{&s, &z};
+template <int N>
+ZigguratTables<N> make(const Shape& s, double lo, double hi) {
+  ZigguratTables<N> z{};
+  struct Ctx { const Shape* s; ZigguratTables<N>* z; } ctx{&s, &z};
   gsl_function fn;
   fn.function = [](double r, void* p) {
     auto* c = static_cast<Ctx*>(p);
@@ -61,14 +63,16 @@ ZigguratTables make(const Shape& s, double lo, double hi) {
   }
   gsl_root_fsolver_free(solver);
   build(s, r, &z);
-  for (int i = 0; i <= 256; ++i) z.f[i] = s.f(z.x[i]);
-  for (int i = 0; i < 256; ++i) z.ratio[i] = z.x[i + 1] / z.x[i];
+  for (int i = 0; i <= N; ++i) z.f[i] = s.f(z.x[i]);
+  for (int i = 0; i < N; ++i) z.ratio[i] = z.x[i + 1] / z.x[i];
   return z;
 }
 
 }  // namespace
 
-const ZigguratTables kNormalZiggurat = make({normal_f, normal_finv, normal_tail}, 3.0, 4.5);
-const ZigguratTables kExponentialZiggurat = make({exp_f, exp_finv, exp_tail}, 6.0, 9.0);
+const ZigguratTables<256> kNormalZiggurat = make<256>({normal_f, normal_finv, normal_tail}, 3.0, 4.5);
+const ZigguratTables<128> kNormalZiggurat128 =
+    make<128>({normal_f, normal_finv, normal_tail}, 2.8, 4.2);
+const ZigguratTables<256> kExponentialZiggurat = make<256>({exp_f, exp_finv, exp_tail}, 6.0, 9.0);
 
 }  // namespace granboltz::detail
