@@ -121,7 +121,12 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"unknown model", "--set model=lattice", "model = lattice: must be one of", 2},
         BadInput{"zero shells", "--set dsmc.histogram.shells=0", "dsmc.histogram.shells = 0", 2},
         BadInput{"does not fit in memory", "--set dsmc.particles=1e15", "of memory", 2},
-        BadInput{"malformed --set", "--set dsmc.alpha", "expected key=value", 2}),
+        BadInput{"malformed --set", "--set dsmc.alpha", "expected key=value", 2},
+        BadInput{"pairwise majorant with heating and no splitting", "--set dsmc.majorant=pairwise",
+                 "dsmc.majorant = pairwise: not exact for scheme nosplit with beta > 0", 2},
+        BadInput{"pairwise majorant for Maxwell molecules",
+                 "--set dsmc.majorant=pairwise --set dsmc.kernel.lambda=0 --set dsmc.beta=0",
+                 "needs kernel.lambda > 0", 2}),
     [](const auto& info) {
       std::string s = info.param.what;
       for (auto& ch : s) if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';

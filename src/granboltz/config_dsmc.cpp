@@ -94,6 +94,13 @@ DsmcConfig read_dsmc(const Section& s) {
 
   c.majorant = s.choice("majorant", {"global", "pairwise"}, "global") == "pairwise"
                    ? MajorantKind::kPairwise : MajorantKind::kGlobal;
+  if (c.majorant == MajorantKind::kPairwise && c.kernel.lambda == 0)
+    throw ConfigError(s.name("majorant") + " = pairwise: needs kernel.lambda > 0 (for Maxwell "
+                      "molecules every pair has the same rate and the global majorant is exact)");
+  if (c.majorant == MajorantKind::kPairwise && c.scheme == Scheme::kNoSplit && c.beta > 0)
+    throw ConfigError(s.name("majorant") + " = pairwise: not exact for scheme nosplit with beta > 0 "
+                      "(the kicks between events break the pairwise bound); use it with beta = 0 "
+                      "or with scheme euler or strang, or use majorant: global");
   c.majorant_update = s.choice("majorant_update", {"paper", "strict"}, "paper") == "strict"
                           ? MajorantUpdate::kStrict : MajorantUpdate::kPaper;
   if (s.has("steady_from")) {

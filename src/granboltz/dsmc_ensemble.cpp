@@ -29,6 +29,7 @@ DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, std::uint64_t seed, std::ui
       events_(make_stream(seed, ensemble, Consumer::kEvents)),
       pairs_(make_stream(seed, ensemble, Consumer::kPairs)),
       sweep_(make_stream(seed, ensemble, Consumer::kSweep)),
+      pairwise_(config.majorant == MajorantKind::kPairwise),
       progress_(progress) {
   Engine init = make_stream(seed, ensemble, Consumer::kInitial);
   const double sd = std::sqrt(c_.initial_temperature);
@@ -42,6 +43,10 @@ DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, std::uint64_t seed, std::ui
   double r2 = 0.0;
   for (const auto& q : p_) r2 = std::max(r2, norm2(q.v - v0_));
   set_majorant(2.0 * std::sqrt(r2));
+  if (pairwise_) {
+    w_.resize(p_.size());
+    reweigh_all();
+  }
   for (auto& pair : ring_) pair = draw_pair(pairs_);
 }
 
@@ -49,10 +54,13 @@ std::uint64_t DsmcEnsemble::random_draws() const {
   return events_.draws() + pairs_.draws() + sweep_.draws();
 }
 
+// ---- Global majorant (GRW05 §4, RW05 §3.4) ----
+
 void DsmcEnsemble::set_majorant(double u_max) {
   u_max_ = u_max;
   u_max2_ = u_max * u_max;
-  inv_rate_ = 1.0 / c_.kernel.majorant_rate(static_cast<double>(p_.size()), u_max_);
+  if (!pairwise_)
+    inv_rate_ = 1.0 / c_.kernel.majorant_rate(static_cast<double>(p_.size()), u_max_);
 }
 
 void DsmcEnsemble::adapt_majorant(const Particle& a) {
@@ -63,26 +71,8 @@ void DsmcEnsemble::adapt_majorant(const Particle& a) {
 
 void DsmcEnsemble::adapt_majorant_all() {
   if (c_.kernel.lambda == 0.0) return;  // U_max plays no role for Maxwell molecules
+  if (pairwise_) return reweigh_all();
   for (const auto& q : p_) adapt_majorant(q);
-}
-
-DsmcEnsemble::Pair DsmcEnsemble::draw_pair(Engine& pairs) {
-  // i uniform on {0..n-1}, j uniform on the others (GRW05 steps 2.3-2.4).
-  const auto n = static_cast<std::uint32_t>(p_.size());
-  Pair pair;
-  uniform_index_pair(pairs, n, n - 1, pair.i, pair.j);
-  if (pair.j >= pair.i) ++pair.j;
-  return pair;
-}
-
-inline DsmcEnsemble::Pair DsmcEnsemble::next_pair(Engine& pairs) {
-  const Pair pair = ring_[head_];
-  const Pair ahead = draw_pair(pairs);
-  ring_[head_] = ahead;
-  head_ = (head_ + 1) % kLookahead;
-  __builtin_prefetch(&p_[ahead.i], 1);
-  __builtin_prefetch(&p_[ahead.j], 1);
-  return pair;
 }
 
 template <int kLambda>
@@ -100,7 +90,97 @@ inline bool DsmcEnsemble::accept(double u2, Engine& events) {
   }
 }
 
-template <bool kHeated, int kLambda>
+// ---- Pairwise majorant: |u|^lambda <= (|v_i - V| + |v_j - V|)^lambda <= w_i + w_j ----
+
+template <int kLambda>
+inline double DsmcEnsemble::weight(const Vec3& v) const {
+  const double r2 = norm2(v - v0_);
+  if constexpr (kLambda == kHardSpheres) return std::sqrt(r2);
+  else if constexpr (kLambda == kHalf) return std::sqrt(std::sqrt(r2));
+  else return std::pow(r2, 0.5 * c_.kernel.lambda);
+}
+
+template <int kLambda>
+inline void DsmcEnsemble::reweigh(std::uint32_t i) {
+  const double w = weight<kLambda>(p_[i].v);
+  w_sum_ += w - w_[i];
+  w_[i] = w;
+  if (w > w_max_) w_max_ = w;
+  set_pairwise_rate();
+}
+
+void DsmcEnsemble::reweigh_all() {
+  // An exact sum at every sweep keeps the running sum from drifting.
+  w_sum_ = w_max_ = 0.0;
+  for (std::size_t i = 0; i < p_.size(); ++i) {
+    w_[i] = std::pow(norm2(p_[i].v - v0_), 0.5 * c_.kernel.lambda);
+    w_sum_ += w_[i];
+    w_max_ = std::max(w_max_, w_[i]);
+  }
+  set_pairwise_rate();
+}
+
+void DsmcEnsemble::set_pairwise_rate() {
+  // pi_hat = (1/2n) sum_{i != j} 4 pi gamma C (w_i + w_j) = 4 pi gamma C (n - 1) W / n.
+  const double n = static_cast<double>(p_.size());
+  inv_rate_ = n / (4.0 * M_PI * c_.kernel.gamma * c_.kernel.C * (n - 1.0) * w_sum_);
+}
+
+template <int kLambda>
+inline bool DsmcEnsemble::accept_pairwise(double u2, double bound, Engine& events) {
+  // Accept with probability |u|^lambda / (w_i + w_j), the weights being those the waiting time
+  // was drawn with; 1 when a kick has carried |u|^lambda beyond them (the truncated kernel).
+  const double r = uniform01(events) * bound;
+  if constexpr (kLambda == kHardSpheres) {
+    return r * r < u2;
+  } else if constexpr (kLambda == kHalf) {
+    return r * r * r * r < u2;
+  } else {
+    return r < std::pow(u2, 0.5 * c_.kernel.lambda);
+  }
+}
+
+// ---- Candidate pairs ----
+
+DsmcEnsemble::Pair DsmcEnsemble::draw_pair(Engine& pairs) {
+  // i uniform on {0..n-1}, j uniform on the others (GRW05 steps 2.3-2.4); for the pairwise
+  // majorant also the uniform that decides whether i is kept (probability w_i / w_max).
+  const auto n = static_cast<std::uint32_t>(p_.size());
+  Pair pair;
+  uniform_index_pair(pairs, n, n - 1, pair.i, pair.j);
+  if (pair.j >= pair.i) ++pair.j;
+  pair.u = pairwise_ ? uniform01(pairs) : 0.0;
+  return pair;
+}
+
+inline DsmcEnsemble::Pair DsmcEnsemble::next_pair(Engine& pairs) {
+  const Pair pair = ring_[head_];
+  const Pair ahead = draw_pair(pairs);
+  ring_[head_] = ahead;
+  head_ = (head_ + 1) % kLookahead;
+  __builtin_prefetch(&p_[ahead.i], 1);
+  __builtin_prefetch(&p_[ahead.j], 1);
+  if (pairwise_) __builtin_prefetch(&w_[ahead.i]);
+  return pair;
+}
+
+template <int kLambda, bool kPairwise>
+inline DsmcEnsemble::Pair DsmcEnsemble::select_pair(Engine& pairs) {
+  if constexpr (!kPairwise) {
+    return next_pair(pairs);
+  } else {
+    // The ordered pair (i, j) with probability proportional to w_i + w_j: i by weight (rejection
+    // against w_max), j uniform among the others; the order does not matter for a collision.
+    for (;;) {
+      const Pair pair = next_pair(pairs);
+      if (pair.u * w_max_ < w_[pair.i]) return pair;
+    }
+  }
+}
+
+// ---- Schemes ----
+
+template <bool kHeated, int kLambda, bool kPairwise>
 void DsmcEnsemble::run_nosplit(double s) {
   const double alpha = c_.alpha, beta = c_.beta;
   // Local copies of the streams: kept in registers instead of being stored after every draw.
@@ -110,31 +190,40 @@ void DsmcEnsemble::run_nosplit(double s) {
     const double tau = exponential(ev) * inv_rate_;  // GRW05 step 2.1
     if (t_ + tau >= s) break;
     t_ += tau;
-    const Pair pair = next_pair(pairs);
+    const Pair pair = select_pair<kLambda, kPairwise>(pairs);
     Particle& a = p_[pair.i];
     Particle& b = p_[pair.j];
+    double bound = 0.0;
+    if constexpr (kPairwise) bound = w_[pair.i] + w_[pair.j];
     if constexpr (kHeated) {  // step 2.5: kick both partners up to the event time
       white_noise_kick2(a.v, t_ - a.t, b.v, t_ - b.t, beta, ev);
       a.t = t_;
       b.t = t_;
       counts_.kicks += 2;
-      if constexpr (kLambda != kMaxwell) {  // step 2.7
+      if constexpr (kLambda != kMaxwell && !kPairwise) {  // step 2.7
         adapt_majorant(a);
         adapt_majorant(b);
       }
     }
-    if constexpr (kLambda != kMaxwell) {  // step 2.8
-      if (!accept<kLambda>(norm2(a.v - b.v), ev)) {
-        ++counts_.fictitious;
-        if ((++events & kProgressMask) == 0) report(t_);
-        continue;
-      }
+    bool real = true;
+    if constexpr (kPairwise) real = accept_pairwise<kLambda>(norm2(a.v - b.v), bound, ev);
+    else if constexpr (kLambda != kMaxwell) real = accept<kLambda>(norm2(a.v - b.v), ev);  // 2.8
+    if (real) {
+      collide(a.v, b.v, unit_vector(ev), alpha);  // step 2.9
+      ++counts_.collisions;
+    } else {
+      ++counts_.fictitious;
     }
-    collide(a.v, b.v, unit_vector(ev), alpha);  // step 2.9
-    ++counts_.collisions;
-    if constexpr (kLambda != kMaxwell) {  // step 2.10
-      adapt_majorant(a);
-      adapt_majorant(b);
+    if constexpr (kPairwise) {
+      if (real || kHeated) {
+        reweigh<kLambda>(pair.i);
+        reweigh<kLambda>(pair.j);
+      }
+    } else if constexpr (kLambda != kMaxwell) {
+      if (real) {  // step 2.10
+        adapt_majorant(a);
+        adapt_majorant(b);
+      }
     }
     if ((++events & kProgressMask) == 0) report(t_);
   }
@@ -162,7 +251,7 @@ void DsmcEnsemble::kick_all_to(double s) {
   }
 }
 
-template <int kLambda>
+template <int kLambda, bool kPairwise>
 void DsmcEnsemble::collide_during(double h) {
   const double alpha = c_.alpha;
   Engine ev = events_, pairs = pairs_;
@@ -171,20 +260,26 @@ void DsmcEnsemble::collide_during(double h) {
   for (;;) {
     t += exponential(ev) * inv_rate_;
     if (t >= h) break;
-    const Pair pair = next_pair(pairs);
+    const Pair pair = select_pair<kLambda, kPairwise>(pairs);
     Particle& a = p_[pair.i];
     Particle& b = p_[pair.j];
-    if constexpr (kLambda != kMaxwell) {
-      if (!accept<kLambda>(norm2(a.v - b.v), ev)) {
-        ++counts_.fictitious;
-        continue;
+    bool real = true;
+    if constexpr (kPairwise)
+      real = accept_pairwise<kLambda>(norm2(a.v - b.v), w_[pair.i] + w_[pair.j], ev);
+    else if constexpr (kLambda != kMaxwell)
+      real = accept<kLambda>(norm2(a.v - b.v), ev);
+    if (real) {
+      collide(a.v, b.v, unit_vector(ev), alpha);
+      ++counts_.collisions;
+      if constexpr (kPairwise) {
+        reweigh<kLambda>(pair.i);
+        reweigh<kLambda>(pair.j);
+      } else if constexpr (kLambda != kMaxwell) {
+        adapt_majorant(a);
+        adapt_majorant(b);
       }
-    }
-    collide(a.v, b.v, unit_vector(ev), alpha);
-    ++counts_.collisions;
-    if constexpr (kLambda != kMaxwell) {
-      adapt_majorant(a);
-      adapt_majorant(b);
+    } else {
+      ++counts_.fictitious;
     }
     if ((++events & kProgressMask) == 0) report(t_ + t);
   }
@@ -204,29 +299,38 @@ void DsmcEnsemble::kick_all_by(double h) {
   adapt_majorant_all();
 }
 
+namespace {
+// Calls f.template operator()<kLambda, kPairwise>() for the runtime lambda case and majorant.
+template <class F>
+void dispatch(int lc, bool pairwise, F&& f) {
+  if (pairwise) {
+    switch (lc) {
+      case kHardSpheres: return f.template operator()<kHardSpheres, true>();
+      case kHalf: return f.template operator()<kHalf, true>();
+      default: return f.template operator()<kGeneral, true>();
+    }
+  }
+  switch (lc) {
+    case kMaxwell: return f.template operator()<kMaxwell, false>();
+    case kHardSpheres: return f.template operator()<kHardSpheres, false>();
+    case kHalf: return f.template operator()<kHalf, false>();
+    default: return f.template operator()<kGeneral, false>();
+  }
+}
+}  // namespace
+
 void DsmcEnsemble::advance_to(double s) {
   const int lc = lambda_case(c_.kernel.lambda);
   if (c_.scheme == Scheme::kNoSplit) {
-    switch (lc + 4 * heated_) {
-      case kMaxwell: run_nosplit<false, kMaxwell>(s); break;
-      case kHardSpheres: run_nosplit<false, kHardSpheres>(s); break;
-      case kHalf: run_nosplit<false, kHalf>(s); break;
-      case kGeneral: run_nosplit<false, kGeneral>(s); break;
-      case 4 + kMaxwell: run_nosplit<true, kMaxwell>(s); break;
-      case 4 + kHardSpheres: run_nosplit<true, kHardSpheres>(s); break;
-      case 4 + kHalf: run_nosplit<true, kHalf>(s); break;
-      default: run_nosplit<true, kGeneral>(s); break;
-    }
+    dispatch(lc, pairwise_, [&]<int L, bool P>() {
+      if (heated_) run_nosplit<true, L, P>(s);
+      else run_nosplit<false, L, P>(s);
+    });
     kick_all_to(s);  // step 3.1 / Remark 2
     t_ = s;
   } else {
     auto collide_for = [&](double h) {
-      switch (lc) {
-        case kMaxwell: collide_during<kMaxwell>(h); break;
-        case kHardSpheres: collide_during<kHardSpheres>(h); break;
-        case kHalf: collide_during<kHalf>(h); break;
-        default: collide_during<kGeneral>(h); break;
-      }
+      dispatch(lc, pairwise_, [&]<int L, bool P>() { collide_during<L, P>(h); });
     };
     const double dt = c_.time_step();
     // Steps are counted from t = 0 so that t_k = k dt carries no accumulated round-off.

@@ -5,6 +5,7 @@
 #include <array>
 #include <atomic>
 #include <cstdint>
+#include <vector>
 
 #include "granboltz/dsmc_config.hpp"
 #include "granboltz/ensemble_driver.hpp"
@@ -46,16 +47,27 @@ class DsmcEnsemble {
   static constexpr unsigned kLookahead = 16;
   struct Pair {
     std::uint32_t i, j;
+    double u;  // pairwise majorant: the uniform of the rejection test for i
   };
 
-  template <bool kHeated, int kLambda>
+  template <bool kHeated, int kLambda, bool kPairwise>
   void run_nosplit(double s);
-  template <int kLambda>
+  template <int kLambda, bool kPairwise>
   void collide_during(double h);  // collision step of length h (splitting schemes)
+  template <int kLambda, bool kPairwise>
+  Pair select_pair(Engine& pairs);  // candidate pair of the majorant process
   void kick_all_by(double h);      // kicking step of length h (splitting schemes)
   void kick_all_to(double s);      // kick every particle from its own last time to s
   template <int kLambda>
-  bool accept(double u2, Engine& events);  // real (not fictitious) collision?
+  bool accept(double u2, Engine& events);  // global majorant: real (not fictitious) collision?
+  template <int kLambda>
+  bool accept_pairwise(double u2, double bound, Engine& events);
+  template <int kLambda>
+  double weight(const Vec3& v) const;  // pairwise majorant weight |v - V|^lambda
+  template <int kLambda>
+  void reweigh(std::uint32_t i);       // refresh w_i, sum and maximum after v_i changed
+  void reweigh_all();
+  void set_pairwise_rate();
   void adapt_majorant(const Particle& a);
   void adapt_majorant_all();
   void set_majorant(double u_max);
@@ -77,6 +89,10 @@ class DsmcEnsemble {
   Engine events_, pairs_, sweep_;
   std::array<Pair, kLookahead> ring_{};
   unsigned head_ = 0;
+  // Pairwise majorant (dsmc.majorant: pairwise): B_ij <= C gamma 4 pi (w_i + w_j).
+  bool pairwise_;
+  std::vector<double> w_;
+  double w_sum_ = 0.0, w_max_ = 0.0;
   EventCounts counts_;
   ProgressSlot* progress_;
 };
