@@ -56,13 +56,18 @@ IntruderConfig read_intruder(const Section& s) {
   s.check(c.mass > 0, "mass", c.mass, "must be > 0");
   read_common(s, c.alpha, c.density, c.collisions, c.sample_every, c.warmup);
   c.method = s.choice("method", {"gillespie", "dsmc"}, "gillespie") == "dsmc"
-                 ? IntruderMethod::kDsmc : IntruderMethod::kGillespie;
+                 ? IntruderMethod::kDsmc
+                 : IntruderMethod::kGillespie;
   c.bath_particles = s.integer("bath_particles", 1000);
   s.check(c.bath_particles >= 1, "bath_particles", static_cast<double>(c.bath_particles),
           "must be >= 1");
+  const std::string refresh = s.choice("bath_refresh", {"tested", "collided", "none"}, "tested");
+  c.bath_refresh = refresh == "collided" ? BathRefresh::kCollided
+                   : refresh == "none"   ? BathRefresh::kNone
+                                         : BathRefresh::kTested;
   c.histogram = read_histogram(s, "histogram");
   s.finish({"bath", "mass", "alpha", "density", "collisions", "method", "sample_every", "warmup",
-            "bath_particles", "histogram"});
+            "bath_particles", "bath_refresh", "histogram"});
   return c;
 }
 
@@ -75,18 +80,21 @@ NeedleConfig read_needle(const Section& s) {
   c.a = s.real("a", 1.0);
   s.check(c.a > 0, "a", c.a, "must be > 0");
   read_common(s, c.alpha, c.density, c.collisions, c.sample_every, c.warmup);
+  c.waiting_time = s.choice("waiting_time", {"thinning", "inversion"}, "thinning") == "inversion"
+                       ? NeedleWaitingTime::kInversion
+                       : NeedleWaitingTime::kThinning;
   c.velocity_histogram = read_histogram(s, "velocity_histogram");
   c.omega_histogram = read_histogram(s, "omega_histogram");
   s.finish({"mass", "length", "alpha", "a", "density", "collisions", "sample_every", "warmup",
-            "velocity_histogram", "omega_histogram"});
+            "waiting_time", "velocity_histogram", "omega_histogram"});
   return c;
 }
 
 void emit_intruder(YAML::Emitter& out, const IntruderConfig& c) {
   out << YAML::Key << "intruder" << YAML::Value << YAML::BeginMap;
   out << YAML::Key << "bath" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "kind"
-      << YAML::Value << (c.bath.kind == BathKind::kPowerLaw ? "powerlaw" : "gaussian")
-      << YAML::Key << "a" << YAML::Value << format_real(c.bath.a) << YAML::EndMap;
+      << YAML::Value << (c.bath.kind == BathKind::kPowerLaw ? "powerlaw" : "gaussian") << YAML::Key
+      << "a" << YAML::Value << format_real(c.bath.a) << YAML::EndMap;
   out << YAML::Key << "mass" << YAML::Value << format_real(c.mass);
   out << YAML::Key << "alpha" << YAML::Value << format_real(c.alpha);
   out << YAML::Key << "density" << YAML::Value << format_real(c.density);
@@ -95,8 +103,13 @@ void emit_intruder(YAML::Emitter& out, const IntruderConfig& c) {
       << (c.method == IntruderMethod::kDsmc ? "dsmc" : "gillespie");
   out << YAML::Key << "sample_every" << YAML::Value << format_real(c.sample_every);
   out << YAML::Key << "warmup" << YAML::Value << c.warmup;
-  if (c.method == IntruderMethod::kDsmc)
+  if (c.method == IntruderMethod::kDsmc) {
     out << YAML::Key << "bath_particles" << YAML::Value << c.bath_particles;
+    out << YAML::Key << "bath_refresh" << YAML::Value
+        << (c.bath_refresh == BathRefresh::kCollided ? "collided"
+            : c.bath_refresh == BathRefresh::kNone   ? "none"
+                                                     : "tested");
+  }
   emit_histogram(out, "histogram", c.histogram);
   out << YAML::EndMap;
 }
@@ -111,6 +124,8 @@ void emit_needle(YAML::Emitter& out, const NeedleConfig& c) {
   out << YAML::Key << "collisions" << YAML::Value << c.collisions;
   out << YAML::Key << "sample_every" << YAML::Value << format_real(c.sample_every);
   out << YAML::Key << "warmup" << YAML::Value << c.warmup;
+  out << YAML::Key << "waiting_time" << YAML::Value
+      << (c.waiting_time == NeedleWaitingTime::kInversion ? "inversion" : "thinning");
   emit_histogram(out, "velocity_histogram", c.velocity_histogram);
   emit_histogram(out, "omega_histogram", c.omega_histogram);
   out << YAML::EndMap;

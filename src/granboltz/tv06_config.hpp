@@ -12,6 +12,15 @@ class Section;
 
 enum class BathKind { kGaussian, kPowerLaw };
 enum class IntruderMethod { kGillespie, kDsmc };
+/// DSMC intruder: which bath particles are replaced by fresh draws from f (docs/tv06.md).
+/// kTested: every particle tested for a collision, accepted or not (exact: the bath stays
+/// independent draws from f); kCollided: only the collision partners (biased: slow particles
+/// accumulate); kNone: the bath of TV06 §4 as written, drawn once (a finite-n sample of f).
+enum class BathRefresh { kTested, kCollided, kNone };
+/// Needle: how the waiting time of eq. 23 is drawn. kThinning: candidate times at the rate
+/// bound Phi(|v1|, omega), accepted with probability Phi(t)/bound (exact, no root finding);
+/// kInversion: TV06's inversion of ∫_0^t Phi = -ln xi (quadrature and a bracketed root finder).
+enum class NeedleWaitingTime { kThinning, kInversion };
 
 /// Bath velocity density: gaussian sqrt(a/pi) exp(-a v^2) (T_B = 1/(2a)) or
 /// power law sqrt(2a)/pi / (1 + a^2 v^4) (T_B = <v^2> = 1/a).
@@ -33,9 +42,10 @@ struct IntruderConfig {
   double density = 1.0;  ///< bath number density rho
   std::uint64_t collisions = 0;
   IntruderMethod method = IntruderMethod::kGillespie;
-  double sample_every = 0.0;  ///< delta t between samples; 0: the mean free time 1/phi(0)
-  std::uint64_t warmup = 0;   ///< collisions discarded before sampling starts
+  double sample_every = 0.0;            ///< delta t between samples; 0: the mean free time 1/phi(0)
+  std::uint64_t warmup = 0;             ///< collisions discarded before sampling starts
   std::uint64_t bath_particles = 1000;  ///< DSMC method only
+  BathRefresh bath_refresh = BathRefresh::kTested;  ///< DSMC method only
   VelocityHistogramSpec histogram;
 };
 
@@ -48,8 +58,9 @@ struct NeedleConfig {
   std::uint64_t collisions = 0;
   double sample_every = 0.0;
   std::uint64_t warmup = 0;
-  VelocityHistogramSpec velocity_histogram;
-  VelocityHistogramSpec omega_histogram;
+  NeedleWaitingTime waiting_time = NeedleWaitingTime::kThinning;
+  VelocityHistogramSpec velocity_histogram;  ///< of the velocity component v1x
+  VelocityHistogramSpec omega_histogram;     ///< of the angular velocity omega
 };
 
 IntruderConfig read_intruder(const Section& s);
