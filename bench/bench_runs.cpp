@@ -37,9 +37,10 @@ std::vector<std::string> with(std::vector<std::string> base, std::vector<std::st
   base.insert(base.end(), more.begin(), more.end());
   return base;
 }
-std::vector<std::string> peer(const char* n, const char* t_end) {
+std::vector<std::string> peer(const char* n, const char* t_end, const char* majorant) {
   return {"dsmc.alpha=1", "dsmc.beta=0", "dsmc.kernel.lambda=1", "dsmc.kernel.C=0.0795774715459477",
-          std::string("dsmc.particles=") + n, std::string("dsmc.t_end=") + t_end, "ensembles=1"};
+          std::string("dsmc.particles=") + n, std::string("dsmc.t_end=") + t_end, "ensembles=1",
+          std::string("dsmc.majorant=") + majorant};
 }
 
 const std::vector<Case> kCases = {
@@ -57,10 +58,18 @@ const std::vector<Case> kCases = {
      {"dsmc.alpha=0.1", "dsmc.beta=30", "dsmc.gamma=16", "dsmc.kernel.lambda=1",
       "dsmc.kernel.C=0.0795774715459477", "dsmc.particles=1e7", "dsmc.t_end=0.02",
       "ensembles=1"}},
-    {"peer_elastic_hs_n1e4", "elastic hard spheres (alpha=1, beta=0, lambda=1), n=10^4",
-     peer("1e4", "100")},
-    {"peer_elastic_hs_n1e5", "elastic hard spheres, n=10^5", peer("1e5", "10")},
-    {"peer_elastic_hs_n1e6", "elastic hard spheres, n=10^6", peer("1e6", "1")},
+    {"peer_elastic_hs_n1e4", "elastic hard spheres (alpha=1, beta=0, lambda=1), n=10^4, global",
+     peer("1e4", "100", "global")},
+    {"peer_elastic_hs_n1e5", "elastic hard spheres, n=10^5, global majorant",
+     peer("1e5", "10", "global")},
+    {"peer_elastic_hs_n1e6", "elastic hard spheres, n=10^6, global majorant",
+     peer("1e6", "1", "global")},
+    {"peer_pairwise_n1e4", "elastic hard spheres, n=10^4, pairwise majorant",
+     peer("1e4", "100", "pairwise")},
+    {"peer_pairwise_n1e5", "elastic hard spheres, n=10^5, pairwise majorant",
+     peer("1e5", "10", "pairwise")},
+    {"peer_pairwise_n1e6", "elastic hard spheres, n=10^6, pairwise majorant",
+     peer("1e6", "1", "pairwise")},
 };
 
 struct Sample {
@@ -136,9 +145,9 @@ double median(std::vector<double> v) {
   return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
 }
 
-// Wall time of a run_dsmc of `ensembles` ensembles on `threads` threads.
+// Wall time of a run_dsmc of 64 ensembles on `threads` threads.
 double threaded_seconds(const Case& c, unsigned threads) {
-  const Config cfg = config_of(c, {"ensembles=8"});
+  const Config cfg = config_of(c, {"ensembles=64"});
   DriverOptions o;
   o.threads = threads;
   o.progress = false;
@@ -194,7 +203,7 @@ int main(int argc, char** argv) {
       one.push_back(threaded_seconds(kCases[0], 1));
       two.push_back(threaded_seconds(kCases[0], 2));
     }
-    std::printf("threads: 8 ensembles of %s: 1 thread %.3f s, 2 threads %.3f s, speed-up %.2f\n",
+    std::printf("threads: 64 ensembles of %s: 1 thread %.3f s, 2 threads %.3f s, speed-up %.2f\n",
                 kCases[0].name, median(one), median(two), median(one) / median(two));
     csv << "speedup_1_to_2_threads,\"" << kCases[0].description << "\"," << repeat
         << ",,,,," << median(two) << ",,,,,," << median(one) / median(two) << "\n";

@@ -106,7 +106,6 @@ inline void DsmcEnsemble::reweigh(std::uint32_t i) {
   w_sum_ += w - w_[i];
   w_[i] = w;
   if (w > w_max_) w_max_ = w;
-  set_pairwise_rate();
 }
 
 void DsmcEnsemble::reweigh_all() {
@@ -123,7 +122,8 @@ void DsmcEnsemble::reweigh_all() {
 void DsmcEnsemble::set_pairwise_rate() {
   // pi_hat = (1/2n) sum_{i != j} 4 pi gamma C (w_i + w_j) = 4 pi gamma C (n - 1) W / n.
   const double n = static_cast<double>(p_.size());
-  inv_rate_ = n / (4.0 * M_PI * c_.kernel.gamma * c_.kernel.C * (n - 1.0) * w_sum_);
+  pairwise_rate_factor_ = 4.0 * M_PI * c_.kernel.gamma * c_.kernel.C * (n - 1.0) / n;
+  inv_rate_ = 1.0 / (pairwise_rate_factor_ * w_sum_);
 }
 
 template <int kLambda>
@@ -143,13 +143,16 @@ inline bool DsmcEnsemble::accept_pairwise(double u2, double bound, Engine& event
 // ---- Candidate pairs ----
 
 DsmcEnsemble::Pair DsmcEnsemble::draw_pair(Engine& pairs) {
-  // i uniform on {0..n-1}, j uniform on the others (GRW05 steps 2.3-2.4); for the pairwise
-  // majorant also the uniform that decides whether i is kept (probability w_i / w_max).
   const auto n = static_cast<std::uint32_t>(p_.size());
-  Pair pair;
-  uniform_index_pair(pairs, n, n - 1, pair.i, pair.j);
-  if (pair.j >= pair.i) ++pair.j;
-  pair.u = pairwise_ ? uniform01(pairs) : 0.0;
+  Pair pair{0, 0, 0.0};
+  if (pairwise_) {
+    // A candidate i with the uniform that keeps it with probability w_i / w_max.
+    uniform_index_and_fraction(pairs, n, pair.i, pair.u);
+  } else {
+    // i uniform on {0..n-1}, j uniform on the others (GRW05 steps 2.3-2.4).
+    uniform_index_pair(pairs, n, n - 1, pair.i, pair.j);
+    if (pair.j >= pair.i) ++pair.j;
+  }
   return pair;
 }
 
@@ -159,21 +162,25 @@ inline DsmcEnsemble::Pair DsmcEnsemble::next_pair(Engine& pairs) {
   ring_[head_] = ahead;
   head_ = (head_ + 1) % kLookahead;
   __builtin_prefetch(&p_[ahead.i], 1);
-  __builtin_prefetch(&p_[ahead.j], 1);
   if (pairwise_) __builtin_prefetch(&w_[ahead.i]);
+  else __builtin_prefetch(&p_[ahead.j], 1);
   return pair;
 }
 
 template <int kLambda, bool kPairwise>
-inline DsmcEnsemble::Pair DsmcEnsemble::select_pair(Engine& pairs) {
+inline DsmcEnsemble::Pair DsmcEnsemble::select_pair(Engine& pairs, Engine& events) {
   if constexpr (!kPairwise) {
     return next_pair(pairs);
   } else {
     // The ordered pair (i, j) with probability proportional to w_i + w_j: i by weight (rejection
     // against w_max), j uniform among the others; the order does not matter for a collision.
     for (;;) {
-      const Pair pair = next_pair(pairs);
-      if (pair.u * w_max_ < w_[pair.i]) return pair;
+      Pair pair = next_pair(pairs);
+      if (pair.u * w_max_ < w_[pair.i]) {
+        pair.j = static_cast<std::uint32_t>(uniform_index(events, p_.size() - 1));
+        if (pair.j >= pair.i) ++pair.j;
+        return pair;
+      }
     }
   }
 }
@@ -185,12 +192,13 @@ void DsmcEnsemble::run_nosplit(double s) {
   const double alpha = c_.alpha, beta = c_.beta;
   // Local copies of the streams: kept in registers instead of being stored after every draw.
   Engine ev = events_, pairs = pairs_;
+  EventCounts counts = counts_;  // in registers during the loop
   std::uint64_t events = 0;
   for (;;) {
     const double tau = exponential(ev) * inv_rate_;  // GRW05 step 2.1
     if (t_ + tau >= s) break;
     t_ += tau;
-    const Pair pair = select_pair<kLambda, kPairwise>(pairs);
+    const Pair pair = select_pair<kLambda, kPairwise>(pairs, ev);
     Particle& a = p_[pair.i];
     Particle& b = p_[pair.j];
     double bound = 0.0;
@@ -199,7 +207,7 @@ void DsmcEnsemble::run_nosplit(double s) {
       white_noise_kick2(a.v, t_ - a.t, b.v, t_ - b.t, beta, ev);
       a.t = t_;
       b.t = t_;
-      counts_.kicks += 2;
+      counts.kicks += 2;
       if constexpr (kLambda != kMaxwell && !kPairwise) {  // step 2.7
         adapt_majorant(a);
         adapt_majorant(b);
@@ -210,14 +218,15 @@ void DsmcEnsemble::run_nosplit(double s) {
     else if constexpr (kLambda != kMaxwell) real = accept<kLambda>(norm2(a.v - b.v), ev);  // 2.8
     if (real) {
       collide(a.v, b.v, unit_vector(ev), alpha);  // step 2.9
-      ++counts_.collisions;
+      ++counts.collisions;
     } else {
-      ++counts_.fictitious;
+      ++counts.fictitious;
     }
     if constexpr (kPairwise) {
       if (real || kHeated) {
         reweigh<kLambda>(pair.i);
         reweigh<kLambda>(pair.j);
+        inv_rate_ = 1.0 / (pairwise_rate_factor_ * w_sum_);
       }
     } else if constexpr (kLambda != kMaxwell) {
       if (real) {  // step 2.10
@@ -229,6 +238,7 @@ void DsmcEnsemble::run_nosplit(double s) {
   }
   events_ = ev;
   pairs_ = pairs;
+  counts_ = counts;
 }
 
 void DsmcEnsemble::kick_all_to(double s) {
@@ -255,12 +265,13 @@ template <int kLambda, bool kPairwise>
 void DsmcEnsemble::collide_during(double h) {
   const double alpha = c_.alpha;
   Engine ev = events_, pairs = pairs_;
+  EventCounts counts = counts_;
   double t = 0.0;
   std::uint64_t events = 0;
   for (;;) {
     t += exponential(ev) * inv_rate_;
     if (t >= h) break;
-    const Pair pair = select_pair<kLambda, kPairwise>(pairs);
+    const Pair pair = select_pair<kLambda, kPairwise>(pairs, ev);
     Particle& a = p_[pair.i];
     Particle& b = p_[pair.j];
     bool real = true;
@@ -270,21 +281,23 @@ void DsmcEnsemble::collide_during(double h) {
       real = accept<kLambda>(norm2(a.v - b.v), ev);
     if (real) {
       collide(a.v, b.v, unit_vector(ev), alpha);
-      ++counts_.collisions;
+      ++counts.collisions;
       if constexpr (kPairwise) {
         reweigh<kLambda>(pair.i);
         reweigh<kLambda>(pair.j);
+        inv_rate_ = 1.0 / (pairwise_rate_factor_ * w_sum_);
       } else if constexpr (kLambda != kMaxwell) {
         adapt_majorant(a);
         adapt_majorant(b);
       }
     } else {
-      ++counts_.fictitious;
+      ++counts.fictitious;
     }
     if ((++events & kProgressMask) == 0) report(t_ + t);
   }
   events_ = ev;
   pairs_ = pairs;
+  counts_ = counts;
 }
 
 void DsmcEnsemble::kick_all_by(double h) {

@@ -46,8 +46,8 @@ class DsmcEnsemble {
   // the stream is consumed in order, so the look-ahead cannot change any result.
   static constexpr unsigned kLookahead = 16;
   struct Pair {
-    std::uint32_t i, j;
-    double u;  // pairwise majorant: the uniform of the rejection test for i
+    std::uint32_t i, j;  // global majorant: both partners; pairwise: j is drawn after i is kept
+    double u;            // pairwise majorant: the uniform that keeps i with probability w_i/w_max
   };
 
   template <bool kHeated, int kLambda, bool kPairwise>
@@ -55,7 +55,7 @@ class DsmcEnsemble {
   template <int kLambda, bool kPairwise>
   void collide_during(double h);  // collision step of length h (splitting schemes)
   template <int kLambda, bool kPairwise>
-  Pair select_pair(Engine& pairs);  // candidate pair of the majorant process
+  Pair select_pair(Engine& pairs, Engine& events);  // candidate pair of the majorant process
   void kick_all_by(double h);      // kicking step of length h (splitting schemes)
   void kick_all_to(double s);      // kick every particle from its own last time to s
   template <int kLambda>
@@ -93,6 +93,7 @@ class DsmcEnsemble {
   bool pairwise_;
   std::vector<double> w_;
   double w_sum_ = 0.0, w_max_ = 0.0;
+  double pairwise_rate_factor_ = 0.0;  // pi_hat / W
   EventCounts counts_;
   ProgressSlot* progress_;
 };
