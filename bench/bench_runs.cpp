@@ -152,7 +152,8 @@ double threaded_seconds(const Case& c, unsigned threads) {
   o.threads = threads;
   o.progress = false;
   const auto t0 = Clock::now();
-  run_dsmc(cfg, o);
+  Record record = dsmc_layout(cfg);
+  run_dsmc(cfg, o, record);
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 

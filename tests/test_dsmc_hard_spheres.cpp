@@ -17,7 +17,7 @@ using namespace granboltz;
 
 namespace {
 
-DsmcResult run_elastic(double lambda, const std::string& update, std::uint64_t seed,
+test::DsmcRun run_elastic(double lambda, const std::string& update, std::uint64_t seed,
                        const std::string& majorant = "global") {
   const Config c = parse_config("{}", "test",
                                 {"model=dsmc", "seed=" + std::to_string(seed), "ensembles=400",
@@ -27,9 +27,7 @@ DsmcResult run_elastic(double lambda, const std::string& update, std::uint64_t s
                                  "dsmc.t_end=2", "dsmc.observe_every=0.5",
                                  "dsmc.majorant_update=" + update,
                                  "dsmc.majorant=" + majorant});
-  DriverOptions o;
-  o.progress = false;
-  return run_dsmc(c, o);
+  return test::DsmcRun(c);
 }
 
 double expected_collisions(double lambda, double n, double T, double gamma, double C, double t) {
@@ -45,18 +43,18 @@ TEST(HardSpheres, RealCollisionRateMatchesTheKernelForEveryLambdaAndMajorantRule
   std::uint64_t seed = 500;
   for (double lambda : {1.0, 0.5, 0.25}) {
     for (const char* update : {"paper", "strict"}) {
-      const DsmcResult r = run_elastic(lambda, update, ++seed);
+      const test::DsmcRun r = run_elastic(lambda, update, ++seed);
       double sum = 0, sum2 = 0;
-      for (auto c : r.collisions) {
-        sum += static_cast<double>(c);
-        sum2 += static_cast<double>(c) * static_cast<double>(c);
+      for (double c : r.collisions) {
+        sum += c;
+        sum2 += c * c;
       }
       const double N = static_cast<double>(r.collisions.size());
       const double mean = sum / N, var = sum2 / N - mean * mean;
       EXPECT_NEAR(mean, expected_collisions(lambda, 200, 1.5, 2, 0.05, 2), z * std::sqrt(var / N))
           << "lambda=" << lambda << " majorant_update=" << update;
       // Fictitious collisions happen for lambda > 0, and never outnumber what U_max implies.
-      EXPECT_GT(r.fictitious[0], 0u);
+      EXPECT_GT(r.fictitious[0], 0.0);
     }
   }
 }
@@ -68,8 +66,8 @@ TEST(HardSpheres, PairwiseMajorantGivesTheExactRateWithFewerEvents) {
   const double z = test::family_z(3);
   std::uint64_t seed = 700;
   for (double lambda : {1.0, 0.5, 0.25}) {
-    const DsmcResult r = run_elastic(lambda, "paper", ++seed, "pairwise");
-    const DsmcResult g = run_elastic(lambda, "paper", seed, "global");
+    const test::DsmcRun r = run_elastic(lambda, "paper", ++seed, "pairwise");
+    const test::DsmcRun g = run_elastic(lambda, "paper", seed, "global");
     double sum = 0, sum2 = 0, fict = 0, gfict = 0;
     for (std::size_t e = 0; e < r.collisions.size(); ++e) {
       const double c = static_cast<double>(r.collisions[e]);
@@ -98,20 +96,18 @@ TEST(HardSpheres, PairwiseAndGlobalMajorantsAgreeOnTheHeatedGas) {
          "dsmc.kernel.C=0.0795774715459477", "dsmc.t_end=2", "dsmc.observe_every=0.25",
          "dsmc.scheme=strang", "dsmc.steps=16", "dsmc.majorant_update=strict",
          "dsmc.majorant=" + majorant});
-    DriverOptions o;
-    o.progress = false;
-    return run_dsmc(c, o);
+    return test::DsmcRun(c);
   };
-  const DsmcResult g = run("global", 801), p = run("pairwise", 802);
+  const test::DsmcRun g = run("global", 801), p = run("pairwise", 802);
   const double z = test::family_z(2 * 8);
   for (std::size_t m = 1; m < g.times.size(); ++m)
     for (int k : {4, 17}) {  // temperature, fourth moment
-      const MeanCi a = g.series[m * kNumScalars + k].stats(g.ensembles);
-      const MeanCi b = p.series[m * kNumScalars + k].stats(p.ensembles);
+      const MeanCi a = g.at(m, k);
+      const MeanCi b = p.at(m, k);
       EXPECT_NEAR(a.mean, b.mean, z * std::sqrt(a.variance / g.ensembles + b.variance / p.ensembles))
           << "scalar " << k << " t=" << g.times[m];
     }
-  std::uint64_t ge = 0, pe = 0;
+  double ge = 0, pe = 0;
   for (std::size_t e = 0; e < g.collisions.size(); ++e) {
     ge += g.collisions[e] + g.fictitious[e];
     pe += p.collisions[e] + p.fictitious[e];
@@ -120,17 +116,17 @@ TEST(HardSpheres, PairwiseAndGlobalMajorantsAgreeOnTheHeatedGas) {
 }
 
 TEST(HardSpheres, ElasticCollisionsConserveEnergyAndMomentumInEveryEnsemble) {
-  const DsmcResult r = run_elastic(1.0, "paper", 600);
+  const test::DsmcRun r = run_elastic(1.0, "paper", 600);
   // Variance over ensembles of T(t) - T(0) is round-off only when every ensemble conserves
   // energy; compare each time's ensemble mean and variance with t = 0.
-  const MeanCi T0 = r.series[4].stats(r.ensembles);
+  const MeanCi T0 = r.at(0, 4);
   for (std::size_t m = 1; m < r.times.size(); ++m) {
-    const MeanCi T = r.series[m * kNumScalars + 4].stats(r.ensembles);
+    const MeanCi T = r.at(m, 4);
     EXPECT_NEAR(T.mean, T0.mean, 1e-12);
     EXPECT_NEAR(T.variance, T0.variance, 1e-12);
     for (int a = 1; a <= 3; ++a) {
-      const MeanCi V = r.series[m * kNumScalars + a].stats(r.ensembles);
-      const MeanCi V0 = r.series[a].stats(r.ensembles);
+      const MeanCi V = r.at(m, a);
+      const MeanCi V0 = r.at(0, a);
       EXPECT_NEAR(V.mean, V0.mean, 1e-14);
     }
   }

@@ -22,7 +22,7 @@ struct Case {
   double alpha, beta, gamma, C0;
 };
 
-DsmcResult run(const Case& k, std::uint64_t n, std::uint64_t N, const std::string& scheme,
+test::DsmcRun run(const Case& k, std::uint64_t n, std::uint64_t N, const std::string& scheme,
                std::uint64_t steps, double t_end, double observe_every, std::uint64_t seed) {
   std::vector<std::string> sets = {
       "model=dsmc", "seed=" + std::to_string(seed), "ensembles=" + std::to_string(N),
@@ -32,17 +32,12 @@ DsmcResult run(const Case& k, std::uint64_t n, std::uint64_t N, const std::strin
       "dsmc.kernel.C=" + format_real(k.C0), "dsmc.t_end=" + format_real(t_end),
       "dsmc.observe_every=" + format_real(observe_every)};
   if (steps) sets.push_back("dsmc.steps=" + std::to_string(steps));
-  const Config c = parse_config("{}", "test", sets);
-  DriverOptions o;
-  o.progress = false;
-  return run_dsmc(c, o);
+  return test::DsmcRun(parse_config("{}", "test", sets));
 }
 
 constexpr int kTemperature = 4, kUncentred = 19;
 
-MeanCi at(const DsmcResult& r, std::size_t m, int scalar) {
-  return r.series[m * kNumScalars + scalar].stats(r.ensembles);
-}
+MeanCi at(const test::DsmcRun& r, std::size_t m, int scalar) { return r.at(m, scalar); }
 
 }  // namespace
 
@@ -59,7 +54,7 @@ TEST(MaxwellMolecules, NoSplittingTemperatureMatchesTheExactExpectation) {
   std::uint64_t seed = 100;
   for (const Case& k : cases) {
     const MaxwellExact exact{k.alpha, k.beta, k.gamma, k.C0, 1.0};
-    const DsmcResult r = run(k, 64, 2000, "nosplit", 0, 4.0, 0.25, ++seed);
+    const test::DsmcRun r = run(k, 64, 2000, "nosplit", 0, 4.0, 0.25, ++seed);
     for (std::size_t m = 1; m < r.times.size(); ++m) {
       const double t = r.times[m];
       const MeanCi T = at(r, m, kTemperature), U = at(r, m, kUncentred);
@@ -77,7 +72,7 @@ TEST(MaxwellMolecules, NoSplittingConvergesToEquation16LikeOneOverN) {
   // resolved by the confidence interval, and the mean matches eq. (16) once it is removed.
   const Case k{0.5, 1.0, 4.0, 1 / (4 * M_PI)};
   const MaxwellExact exact{k.alpha, k.beta, k.gamma, k.C0, 1.0};
-  const DsmcResult r = run(k, 1024, 400, "nosplit", 0, 8.0, 1.0, 7);
+  const test::DsmcRun r = run(k, 1024, 400, "nosplit", 0, 8.0, 1.0, 7);
   const double z = test::family_z(8);
   for (std::size_t m = 1; m < r.times.size(); ++m) {
     const MeanCi T = at(r, m, kTemperature);
@@ -96,7 +91,7 @@ TEST(MaxwellMolecules, SplittingSchemesMatchTheirExactExpectations) {
     for (bool strang : {false, true}) {
       const int K = 8;
       const double dt = 8.0 / K;
-      const DsmcResult r = run(k, 64, 2000, strang ? "strang" : "euler", K, 8.0, dt, ++seed);
+      const test::DsmcRun r = run(k, 64, 2000, strang ? "strang" : "euler", K, 8.0, dt, ++seed);
       for (std::size_t m = 1; m < r.times.size(); ++m) {
         const MeanCi T = at(r, m, kTemperature);
         EXPECT_NEAR(T.mean, exact.centred_split(static_cast<int>(m), dt, n, strang),
@@ -141,7 +136,7 @@ TEST(SplittingSchemes, SimulatedErrorShrinksLikeOneOverKForEulerAndOneOverKSquar
     const int Ks[3] = {4, 8, 16};
     for (int i = 0; i < 3; ++i) {
       const int K = Ks[i];
-      const DsmcResult r =
+      const test::DsmcRun r =
           run(k, 4096, 1000, strang ? "strang" : "euler", K, 8.0, 8.0 / K, 300 + i + 10 * strang);
       emax[i] = delta[i] = 0;
       for (std::size_t m = 1; m < r.times.size(); ++m) {

@@ -12,7 +12,31 @@
 #include <fstream>
 #include <string>
 
+#include "granboltz/dsmc_run.hpp"
+#include "granboltz/observables.hpp"
+
 namespace granboltz::test {
+
+/// A DSMC run in this process, with the accessors the tests need.
+struct DsmcRun {
+  std::vector<double> times;
+  Record record;
+  std::uint64_t ensembles;
+  std::vector<double> collisions, fictitious;
+
+  explicit DsmcRun(const Config& c) : times(dsmc_times(c.dsmc)), record(dsmc_layout(c)) {
+    DriverOptions o;
+    o.progress = false;
+    run_dsmc(c, o, record);
+    ensembles = record.ensembles();
+    collisions = record.column("/events/collisions");
+    fictitious = record.column("/events/fictitious");
+  }
+  /// Mean and confidence of scalar k (an offset into Observation) at observation m.
+  MeanCi at(std::size_t m, int k) const {
+    return record.moments("series")[m * kNumScalars + k].stats(ensembles);
+  }
+};
 
 /// A fresh directory removed at the end of the test.
 struct TempDir {

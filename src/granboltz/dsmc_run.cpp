@@ -5,63 +5,86 @@
 #include <mutex>
 
 #include "granboltz/dsmc_ensemble.hpp"
+#include "granboltz/observables.hpp"
 
 namespace granboltz {
 
-DsmcResult run_dsmc(const Config& config, const DriverOptions& options) {
-  const DsmcConfig& d = config.dsmc;
-  const std::uint64_t M = d.observations();
-  const std::uint64_t K1 = d.histogram.shells ? d.histogram.shells + 1 : 0;
-  const std::uint64_t first = config.first_ensemble(), last = config.last_ensemble();
+namespace {
+struct ColumnSpec {
+  const char* path;
+  bool floating;
+};
+const ColumnSpec kColumns[] = {{"/events/collisions", false},
+                               {"/events/fictitious", false},
+                               {"/events/kicks", false},
+                               {"/events/u_max_final", true}};
+}  // namespace
 
-  DsmcResult r;
-  r.times.resize(M + 1);
+std::vector<double> dsmc_times(const DsmcConfig& d) {
+  const std::uint64_t M = d.observations();
+  std::vector<double> t(M + 1);
   for (std::uint64_t m = 0; m <= M; ++m)
-    r.times[m] = m == M ? d.t_end : static_cast<double>(m) * d.observe_every;
-  r.series.resize((M + 1) * kNumScalars);
-  r.histogram.assign((M + 1) * K1, 0);
-  r.histogram_sq.assign((M + 1) * K1, 0);
-  r.steady.resize(kNumScalars);
-  const std::uint64_t count = last - first;
-  r.ensemble_index.resize(count);
-  r.collisions.resize(count);
-  r.fictitious.resize(count);
-  r.kicks.resize(count);
-  r.u_max_final.resize(count);
+    t[m] = m == M ? d.t_end : static_cast<double>(m) * d.observe_every;
+  return t;
+}
+
+Record dsmc_layout(const Config& config) {
+  const DsmcConfig& d = config.dsmc;
+  const std::uint64_t rows = d.observations() + 1;
+  Record r;
+  r.declare_moments("series", rows * kNumScalars);
+  if (d.histogram.shells) r.declare_counts("histogram", rows * (d.histogram.shells + 1));
+  if (d.steady) {
+    r.declare_moments("steady", kNumScalars);
+    r.declare_total("steady_samples");
+  }
+  for (const ColumnSpec& c : kColumns) r.declare_column(c.path, c.floating);
+  return r;
+}
+
+void run_dsmc(const Config& config, const DriverOptions& options, Record& record) {
+  const DsmcConfig& d = config.dsmc;
+  const std::vector<double> times = dsmc_times(d);
+  const std::uint64_t rows = times.size();
+  const std::uint64_t K1 = d.histogram.shells ? d.histogram.shells + 1 : 0;
   const double steady_after = d.steady_from + 1e-9 * d.observe_every;
 
+  std::vector<std::uint64_t> todo;
+  for (std::uint64_t e = config.first_ensemble(); e < config.last_ensemble(); ++e)
+    if (!record.has_ensemble(e)) todo.push_back(e);
+
   std::mutex mutex;
-  for_each_ensemble(first, last, options, [&](std::uint64_t e, ProgressSlot& slot) {
+  DriverOptions opts = options;
+  if (options.checkpoint)
+    opts.tick = [&] {
+      std::lock_guard<std::mutex> lock(mutex);
+      options.checkpoint(record);
+    };
+  for_each_ensemble(todo, opts, [&](std::uint64_t e, ProgressSlot& slot) {
     DsmcEnsemble ensemble(d, config.seed, e, &slot);
-    std::vector<Observation> obs(M + 1);
-    std::vector<std::uint64_t> hist((M + 1) * K1, 0);
-    for (std::uint64_t m = 0; m <= M; ++m) {
-      if (m > 0) ensemble.advance_to(r.times[m]);
+    std::vector<Observation> obs(rows);
+    std::vector<std::uint64_t> hist(rows * K1, 0);
+    for (std::uint64_t m = 0; m < rows; ++m) {
+      if (m > 0) ensemble.advance_to(times[m]);
       obs[m] = measure(ensemble.particles());
       if (K1) radial_histogram(ensemble.particles(), d.histogram, &hist[m * K1]);
     }
     // Exact sums: the order in which ensembles arrive here does not matter.
     std::lock_guard<std::mutex> lock(mutex);
-    for (std::uint64_t m = 0; m <= M; ++m) {
-      for (int k = 0; k < kNumScalars; ++k) r.series[m * kNumScalars + k].add(obs[m][k]);
-      if (d.steady && r.times[m] > steady_after) {
-        for (int k = 0; k < kNumScalars; ++k) r.steady[k].add(obs[m][k]);
-        ++r.steady_samples;
+    auto& series = record.moments("series");
+    for (std::uint64_t m = 0; m < rows; ++m) {
+      for (int k = 0; k < kNumScalars; ++k) series[m * kNumScalars + k].add(obs[m][k]);
+      if (d.steady && times[m] > steady_after) {
+        auto& steady = record.moments("steady");
+        for (int k = 0; k < kNumScalars; ++k) steady[k].add(obs[m][k]);
+        ++record.total("steady_samples");
       }
     }
-    for (std::size_t k = 0; k < hist.size(); ++k) {
-      r.histogram[k] += hist[k];
-      r.histogram_sq[k] += static_cast<uint128>(hist[k]) * hist[k];
-    }
-    const std::uint64_t i = e - first;
-    r.ensemble_index[i] = e;
-    r.collisions[i] = ensemble.counts().collisions;
-    r.fictitious[i] = ensemble.counts().fictitious;
-    r.kicks[i] = ensemble.counts().kicks;
-    r.u_max_final[i] = ensemble.u_max();
+    if (K1) record.add_counts("histogram", hist);
+    const EventCounts& c = ensemble.counts();
+    record.add_ensemble(e, {static_cast<double>(c.collisions), static_cast<double>(c.fictitious),
+                            static_cast<double>(c.kicks), ensemble.u_max()});
   });
-  r.ensembles = count;
-  return r;
 }
 
 namespace {
@@ -94,69 +117,44 @@ void write_moments(H5Writer& out, const std::string& prefix, const std::vector<M
   }
 }
 
-std::vector<std::int64_t> digits_of(const std::vector<Moments2>& sums) {
-  std::vector<std::int64_t> all;
-  for (const auto& s : sums)
-    for (const ExactSum* e : {&s.sum, &s.sum_sq}) {
-      const auto d = e->digits();
-      all.insert(all.end(), d.begin(), d.end());
-    }
-  return all;
-}
-
 }  // namespace
 
-void write_dsmc(H5Writer& out, const Config& config, const DsmcResult& r) {
+void present_dsmc(H5Writer& out, const Config& config, const Record& record) {
   const DsmcConfig& d = config.dsmc;
-  const std::uint64_t rows = r.times.size();
-  out.write("/time", r.times, {rows});
-  write_moments(out, "", r.series, rows, r.ensembles, false);
+  const std::vector<double> times = dsmc_times(d);
+  const std::uint64_t rows = times.size(), N = record.ensembles();
+  out.write("/time", times, {rows});
+  write_moments(out, "", record.moments("series"), rows, N, false);
   out.attr("/", "confidence_lambda_p", kLambdaP);
 
   if (d.histogram.shells) {
     const std::uint64_t K1 = d.histogram.shells + 1;
+    const auto& counts = record.counts("histogram");
+    const auto& counts_sq = record.counts_sq("histogram");
     std::vector<double> edges(K1), mean(rows * K1), ci(rows * K1);
     for (std::uint64_t k = 0; k < K1; ++k)
       edges[k] = d.histogram.radius * static_cast<double>(k) / static_cast<double>(K1 - 1);
-    const double n = static_cast<double>(d.particles), N = static_cast<double>(r.ensembles);
+    const double n = static_cast<double>(d.particles), Nd = static_cast<double>(N);
     for (std::size_t k = 0; k < mean.size(); ++k) {
-      const double f = static_cast<double>(r.histogram[k]) / (n * N);
-      const double f2 = static_cast<double>(r.histogram_sq[k]) / (n * n * N);
+      const double f = static_cast<double>(counts[k]) / (n * Nd);
+      const double f2 = static_cast<double>(counts_sq[k]) / (n * n * Nd);
       mean[k] = f;
-      ci[k] = kLambdaP * std::sqrt(std::max(0.0, f2 - f * f) / N);
+      ci[k] = kLambdaP * std::sqrt(std::max(0.0, f2 - f * f) / Nd);
     }
     out.write("/histogram/edges", edges, {K1});
     out.write("/histogram/mean", mean, {rows, K1});
     out.write("/histogram/ci", ci, {rows, K1});
-    out.write("/histogram/counts", r.histogram, {rows, K1});
+    out.write("/histogram/counts", counts, {rows, K1});
     out.attr("/histogram", "description",
-             std::string("f_k = fraction of particles with r_{k-1} <= |v| < r_k, r_k = k R/K "
+             std::string("f_k = fraction of particles with r_k <= |v| < r_{k+1}, r_k = k R/K "
                          "(GRW05 eq. 37); the last shell holds |v| >= R"));
-    std::vector<std::uint64_t> sq(2 * r.histogram_sq.size());
-    for (std::size_t k = 0; k < r.histogram_sq.size(); ++k) {
-      sq[2 * k] = static_cast<std::uint64_t>(r.histogram_sq[k] >> 64);
-      sq[2 * k + 1] = static_cast<std::uint64_t>(r.histogram_sq[k]);
-    }
-    out.write("/accumulators/histogram_sq", sq, {rows, K1, 2});
   }
-
-  const std::uint64_t N = r.ensemble_index.size();
-  out.write("/events/ensemble", r.ensemble_index, {N});
-  out.write("/events/collisions", r.collisions, {N});
-  out.write("/events/fictitious", r.fictitious, {N});
-  out.write("/events/kicks", r.kicks, {N});
-  out.write("/events/u_max_final", r.u_max_final, {N});
-
   if (d.steady) {
-    write_moments(out, "/steady", r.steady, 1, r.steady_samples, true);
-    out.attr("/steady", "samples", r.steady_samples);
+    const std::uint64_t samples = record.total("steady_samples");
+    write_moments(out, "/steady", record.moments("steady"), 1, samples, true);
+    out.attr("/steady", "samples", samples);
     out.attr("/steady", "from", d.steady_from);
-    out.write("/accumulators/steady", digits_of(r.steady),
-              {kNumScalars, 2, static_cast<hsize_t>(ExactSum::kLimbs)});
-    out.attr("/accumulators", "steady_samples", r.steady_samples);
   }
-  out.write("/accumulators/series", digits_of(r.series),
-            {rows, kNumScalars, 2, static_cast<hsize_t>(ExactSum::kLimbs)});
 }
 
 }  // namespace granboltz

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstdio>
+#include <algorithm>
 #include <exception>
 #include <memory>
 #include <mutex>
@@ -30,11 +31,12 @@ unsigned resolve_threads(unsigned threads, std::uint64_t work_items) {
   return t;
 }
 
-void for_each_ensemble(std::uint64_t first, std::uint64_t last, const DriverOptions& options,
+void for_each_ensemble(const std::vector<std::uint64_t>& ensembles, const DriverOptions& options,
                        const std::function<void(std::uint64_t, ProgressSlot&)>& body) {
-  const std::uint64_t total = last - first;
+  const std::uint64_t total = ensembles.size();
+  if (total == 0) return;
   const unsigned nthreads = resolve_threads(options.threads, total);
-  std::atomic<std::uint64_t> next{first};
+  std::atomic<std::uint64_t> next{0};
   std::atomic<std::uint64_t> done{0};
   std::atomic<bool> stop{false};
   std::exception_ptr error;
@@ -45,11 +47,11 @@ void for_each_ensemble(std::uint64_t first, std::uint64_t last, const DriverOpti
 
   auto worker = [&](unsigned w) {
     for (;;) {
-      const std::uint64_t e = next.fetch_add(1);
-      if (e >= last || stop.load()) break;
+      const std::uint64_t k = next.fetch_add(1);
+      if (k >= total || stop.load()) break;
       slots[w].store(0.0);
       try {
-        body(e, slots[w]);
+        body(ensembles[k], slots[w]);
       } catch (...) {
         std::lock_guard<std::mutex> lock(mutex);
         if (!error) error = std::current_exception();
@@ -69,11 +71,32 @@ void for_each_ensemble(std::uint64_t first, std::uint64_t last, const DriverOpti
 
   const auto start = std::chrono::steady_clock::now();
   auto next_report = start + kFirstReport;
+  const bool ticking = options.tick && options.checkpoint_every > 0;
+  const auto tick_every = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+      std::chrono::duration<double>(ticking ? options.checkpoint_every : 3600.0));
+  auto next_tick = start + tick_every;
   bool reported = false;
   {
     std::unique_lock<std::mutex> lock(mutex);
     while (running > 0) {
-      if (finished.wait_until(lock, next_report, [&] { return running == 0; })) break;
+      const auto wake = ticking ? std::min(next_report, next_tick) : next_report;
+      if (finished.wait_until(lock, wake, [&] { return running == 0; })) break;
+      if (ticking && std::chrono::steady_clock::now() >= next_tick) {
+        lock.unlock();
+        std::exception_ptr tick_error;
+        try {
+          options.tick();  // takes the caller's lock on its record
+        } catch (...) {
+          tick_error = std::current_exception();
+        }
+        lock.lock();
+        if (tick_error) {
+          if (!error) error = tick_error;
+          stop = true;
+        }
+        next_tick = std::chrono::steady_clock::now() + tick_every;
+        continue;
+      }
       if (!options.progress) {
         next_report += kReportEvery;
         continue;

@@ -6,8 +6,11 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace granboltz {
+
+class Record;
 
 /// Where a running ensemble publishes how far it got, as a fraction in [0, 1].
 using ProgressSlot = std::atomic<double>;
@@ -16,11 +19,16 @@ struct DriverOptions {
   unsigned threads = 0;        ///< 0: all hardware threads
   bool progress = true;        ///< report on stderr when the run lasts more than a few seconds
   std::string label = "run";   ///< shown in progress lines
+  double checkpoint_every = 0.0;  ///< seconds between calls of tick; 0: never
+  /// Saves the record of the ensembles completed so far (set by run_to_file).
+  std::function<void(const Record&)> checkpoint;
+  /// Called from the driver's own thread every checkpoint_every seconds (set by a model's run).
+  std::function<void()> tick;
 };
 
-/// Calls body(e, slot) for every ensemble e in [first, last). The first exception thrown by a
+/// Calls body(e, slot) for every ensemble e of `ensembles`. The first exception thrown by a
 /// body stops the others and is rethrown here.
-void for_each_ensemble(std::uint64_t first, std::uint64_t last, const DriverOptions& options,
+void for_each_ensemble(const std::vector<std::uint64_t>& ensembles, const DriverOptions& options,
                        const std::function<void(std::uint64_t, ProgressSlot&)>& body);
 
 /// The number of worker threads that `threads` (0 = all) means on this machine.

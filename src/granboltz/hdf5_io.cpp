@@ -225,6 +225,20 @@ std::string H5Reader::attr_string(const std::string& object, const std::string& 
   return out;
 }
 
+std::uint64_t H5Reader::attr_uint64(const std::string& object, const std::string& name) const {
+  Handle a{H5Aopen_by_name(file_, object.c_str(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT),
+           H5Aclose};
+  if (a.id < 0) fail(path_ + ": missing attribute " + name + " of " + object);
+  std::uint64_t v = 0;
+  if (H5Aread(a.id, H5T_NATIVE_UINT64, &v) < 0) fail(path_ + ": cannot read attribute " + name);
+  return v;
+}
+
+bool H5Reader::has_attr(const std::string& object, const std::string& name) const {
+  return (object == "/" || exists(object)) &&
+         H5Aexists_by_name(file_, object.c_str(), name.c_str(), H5P_DEFAULT) > 0;
+}
+
 std::vector<std::string> H5Reader::datasets() const {
   std::vector<std::string> names;
   auto visit = [](hid_t, const char* name, const H5O_info_t* info, void* data) -> herr_t {

@@ -55,6 +55,9 @@ class H5Reader {
   /// The stored bytes of a dataset in its own type, for bit-for-bit comparisons.
   std::vector<unsigned char> read_bytes(const std::string& path) const;
   std::string attr_string(const std::string& object, const std::string& name) const;
+  std::uint64_t attr_uint64(const std::string& object, const std::string& name) const;
+  bool has_attr(const std::string& object, const std::string& name) const;
+  const std::string& path() const { return path_; }
   /// Absolute paths of all datasets, in name order.
   std::vector<std::string> datasets() const;
 

@@ -1,19 +1,21 @@
 #include "granboltz/run.hpp"
 
+#include <signal.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <cstring>
 #include <ctime>
+#include <filesystem>
 #include <fstream>
 
 #include "granboltz/dsmc_run.hpp"
 #include "granboltz/exact_sum.hpp"
 #include "granboltz/hdf5_io.hpp"
 #include "granboltz/observables.hpp"
+#include "granboltz/output.hpp"
 #include "granboltz/particles.hpp"
 #include "granboltz/tv06_run.hpp"
-#include "granboltz/version.hpp"
 
 namespace granboltz {
 
@@ -51,6 +53,52 @@ std::string utc_now() {
   return buf;
 }
 
+std::string hostname() {
+  char host[256] = "";
+  gethostname(host, sizeof host - 1);
+  return host;
+}
+
+// Removes temporary files "<path>.tmp.<pid>" left by runs that were killed.
+void remove_stale_temporaries(const std::string& path) {
+  namespace fs = std::filesystem;
+  const fs::path p(path);
+  const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
+  const std::string prefix = p.filename().string() + ".tmp.";
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind(prefix, 0) != 0) continue;
+    const std::string pid = name.substr(prefix.size());
+    if (pid.empty() || pid.find_first_not_of("0123456789") != std::string::npos) continue;
+    if (::kill(static_cast<pid_t>(std::stol(pid)), 0) != 0 && errno == ESRCH)
+      fs::remove(entry.path(), ec);
+  }
+}
+
+void write_checkpoint(const std::string& path, const Config& config, const Record& record) {
+  H5Writer out(path);
+  record.write(out);
+  out.attr("/", "config", config.to_yaml(true));
+  out.attr("/", "shard_index", config.shard.index);
+  out.attr("/", "shard_count", config.shard.count);
+  out.attr("/", "saved_utc", utc_now());
+  out.commit();  // atomic: a checkpoint is either the old one or the new one
+}
+
+// The record saved by an earlier, interrupted run of the same config and shard, if any.
+bool load_checkpoint(const std::string& path, const Config& config, Record& record) {
+  if (!std::filesystem::exists(path)) return false;
+  H5Reader in(path);
+  if (!in.has_attr("/", "config") || in.attr_string("/", "config") != config.to_yaml(true) ||
+      in.attr_uint64("/", "shard_index") != config.shard.index ||
+      in.attr_uint64("/", "shard_count") != config.shard.count)
+    throw ConfigError(path + ": checkpoint of a different config or shard; delete it to start "
+                      "afresh, or write to another output");
+  record.read(in);
+  return true;
+}
+
 }  // namespace
 
 const char* current_temporary_output() { return g_temporary; }
@@ -63,10 +111,11 @@ std::uint64_t estimate_memory(const Config& config, unsigned threads) {
     const double rows = static_cast<double>(d.observations() + 1);
     const double shells = d.histogram.shells ? static_cast<double>(d.histogram.shells + 1) : 0;
     bytes += t * static_cast<double>(d.particles) * sizeof(Particle);
+    if (d.majorant == MajorantKind::kPairwise) bytes += t * static_cast<double>(d.particles) * 8.0;
     bytes += t * rows * (kNumScalars * 8.0 + shells * 8.0);      // per-ensemble observations
     bytes += rows * kNumScalars * 2.0 * sizeof(ExactSum) * 2.0;  // accumulators and output copy
     bytes += rows * shells * 24.0 * 2.0;
-    bytes += static_cast<double>(config.last_ensemble() - config.first_ensemble()) * 40.0;
+    bytes += static_cast<double>(config.last_ensemble() - config.first_ensemble()) * 200.0;
   } else {
     bytes += tv06_memory_estimate(config, threads);
   }
@@ -85,42 +134,49 @@ void run_to_file(const Config& config, const std::string& path, const DriverOpti
                       human_bytes(static_cast<double>(have)) +
                       " is available; reduce particles, threads or observation times");
 
+  const std::string checkpoint = path + ".checkpoint";
+  remove_stale_temporaries(path);
+  remove_stale_temporaries(checkpoint);
   // Create the output first, so that an unwritable path fails before hours of work.
   H5Writer out(path);
   std::strncpy(g_temporary, out.temp_path().c_str(), sizeof g_temporary - 1);
   const std::string started = utc_now();
   const auto start = std::chrono::steady_clock::now();
 
+  Record record = layout_of(config);
+  const bool resumed = load_checkpoint(checkpoint, config, record);
+  if (resumed && options.progress)
+    std::fprintf(stderr, "[granboltz] %s: resuming from %s, %llu of %llu ensembles done\n",
+                 options.label.c_str(), checkpoint.c_str(),
+                 static_cast<unsigned long long>(record.ensembles()),
+                 static_cast<unsigned long long>(work));
+
   DriverOptions opts = options;
   opts.threads = threads;
-  switch (config.model) {
-    case Model::kDsmc: write_dsmc(out, config, run_dsmc(config, opts)); break;
-    case Model::kIntruder:
-    case Model::kNeedle: run_tv06(out, config, opts); break;
+  if (config.checkpoint.every_seconds > 0) {
+    opts.checkpoint_every = config.checkpoint.every_seconds;
+    opts.checkpoint = [&](const Record& r) { write_checkpoint(checkpoint, config, r); };
   }
+  if (config.model == Model::kDsmc) run_dsmc(config, opts, record);
+  else run_tv06(config, opts, record);
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-  out.attr("/", "config", config.to_yaml(true));
-  out.attr("/", "model", model_name(config.model));
-  out.attr("/", "seed", config.seed);
-  out.attr("/", "ensembles", config.ensembles);
-  out.attr("/", "version", std::string(kVersion));
-  out.attr("/", "git_sha", std::string(kGitSha));
-  out.group("/provenance");
-  out.attr("/provenance", "run_config", config.to_yaml(false));
-  out.attr("/provenance", "command", command);
-  out.attr("/provenance", "threads", static_cast<std::uint64_t>(threads));
-  out.attr("/provenance", "shard_index", config.shard.index);
-  out.attr("/provenance", "shard_count", config.shard.count);
-  out.attr("/provenance", "wall_seconds", wall);
-  out.attr("/provenance", "started_utc", started);
-  char host[256] = "";
-  gethostname(host, sizeof host - 1);
-  out.attr("/provenance", "host", std::string(host));
-  out.attr("/provenance", "build", std::string(GRANBOLTZ_BUILD_TYPE) + ", " GRANBOLTZ_COMPILER);
+  write_output(out, config, record,
+               {{"run_config", config.to_yaml(false)},
+                {"command", command},
+                {"threads", std::to_string(threads)},
+                {"shard", std::to_string(config.shard.index) + "/" +
+                              std::to_string(config.shard.count)},
+                {"wall_seconds", std::to_string(wall)},
+                {"resumed_from_checkpoint", resumed ? "yes" : "no"},
+                {"started_utc", started},
+                {"host", hostname()},
+                {"build", std::string(GRANBOLTZ_BUILD_TYPE) + ", " GRANBOLTZ_COMPILER}});
   out.commit();
   g_temporary[0] = '\0';
+  std::error_code ec;
+  std::filesystem::remove(checkpoint, ec);  // the output now holds everything
 }
 
 }  // namespace granboltz

@@ -3,11 +3,18 @@
 #include "granboltz/config.hpp"
 #include "granboltz/ensemble_driver.hpp"
 #include "granboltz/hdf5_io.hpp"
+#include "granboltz/record.hpp"
 
 namespace granboltz {
 
-/// Runs a `model: intruder` or `model: needle` config and writes its datasets to `out`.
-void run_tv06(H5Writer& out, const Config& config, const DriverOptions& options);
+/// The record of a `model: intruder` or `model: needle` run of this config, empty.
+Record tv06_layout(const Config& config);
+
+/// Runs the ensembles of this shard that `record` does not hold yet, adding them to it.
+void run_tv06(const Config& config, const DriverOptions& options, Record& record);
+
+/// Writes the datasets a user reads (docs/tv06.md), computed from the record only.
+void present_tv06(H5Writer& out, const Config& config, const Record& record);
 
 /// Peak memory of a TV06 run in bytes, beyond the program itself.
 double tv06_memory_estimate(const Config& config, unsigned threads);
