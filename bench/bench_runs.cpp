@@ -18,6 +18,8 @@
 #include "granboltz/dsmc_ensemble.hpp"
 #include "granboltz/dsmc_run.hpp"
 #include "granboltz/rng.hpp"
+#include "granboltz/tv06_intruder.hpp"
+#include "granboltz/tv06_needle.hpp"
 
 using namespace granboltz;
 using Clock = std::chrono::steady_clock;
@@ -58,6 +60,16 @@ const std::vector<Case> kCases = {
      {"dsmc.alpha=0.1", "dsmc.beta=30", "dsmc.gamma=16", "dsmc.kernel.lambda=1",
       "dsmc.kernel.C=0.0795774715459477", "dsmc.particles=1e7", "dsmc.t_end=0.02",
       "ensembles=1"}},
+    {"tv06_intruder_gillespie", "TV06 intruder, Gaussian bath, M=1, alpha=0.5, 2*10^6 collisions",
+     {"model=intruder", "intruder.bath.kind=gaussian", "intruder.bath.a=1", "intruder.mass=1",
+      "intruder.alpha=0.5", "intruder.collisions=2e6", "intruder.warmup=0", "ensembles=1"}},
+    {"tv06_intruder_dsmc", "TV06 intruder by DSMC, same, 5*10^5 collisions",
+     {"model=intruder", "intruder.bath.kind=gaussian", "intruder.bath.a=1", "intruder.mass=1",
+      "intruder.alpha=0.5", "intruder.collisions=5e5", "intruder.warmup=0",
+      "intruder.method=dsmc", "ensembles=1"}},
+    {"tv06_needle", "TV06 needle, M=0.1, alpha=0.1, 2*10^5 collisions",
+     {"model=needle", "needle.mass=0.1", "needle.alpha=0.1", "needle.collisions=2e5",
+      "needle.warmup=0", "ensembles=1"}},
     {"peer_elastic_hs_n1e4", "elastic hard spheres (alpha=1, beta=0, lambda=1), n=10^4, global",
      peer("1e4", "100", "global")},
     {"peer_elastic_hs_n1e5", "elastic hard spheres, n=10^5, global majorant",
@@ -80,6 +92,7 @@ struct Sample {
 
 Config config_of(const Case& c, const std::vector<std::string>& extra) {
   std::vector<std::string> sets = {"model=dsmc", "seed=1"};
+  if (c.sets[0].rfind("model=", 0) == 0) sets = {"seed=1"};
   sets.insert(sets.end(), c.sets.begin(), c.sets.end());
   sets.insert(sets.end(), extra.begin(), extra.end());
   return parse_config("{}", c.name, sets);
@@ -88,6 +101,22 @@ Config config_of(const Case& c, const std::vector<std::string>& extra) {
 // One repetition, in this process: every ensemble advanced from 0 to t_end on one thread.
 Sample run_once(const Config& cfg) {
   Sample s;
+  if (cfg.model != Model::kDsmc) {  // TV06: an event is a collision (or a thinned candidate)
+    const auto t0 = Clock::now();
+    if (cfg.model == Model::kIntruder) {
+      const auto r = tv06::simulate_intruder(cfg.intruder, cfg.seed, 0);
+      s.real = static_cast<double>(r.collisions);
+      s.events = s.real + static_cast<double>(r.fictitious);
+      s.draws = static_cast<double>(r.draws);
+    } else {
+      const auto r = tv06::simulate_needle(cfg.needle, cfg.seed, 0);
+      s.real = static_cast<double>(r.collisions);
+      s.events = s.real + static_cast<double>(r.fictitious);
+      s.draws = static_cast<double>(r.draws);
+    }
+    s.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+    return s;
+  }
   for (std::uint64_t e = 0; e < cfg.ensembles; ++e) {
     DsmcEnsemble ens(cfg.dsmc, cfg.seed, e);
     const auto t0 = Clock::now();

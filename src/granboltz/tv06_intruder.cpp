@@ -78,6 +78,7 @@ IntruderEnsemble run_gillespie(const B& bath, const IntruderConfig& c, std::uint
   IntruderEnsemble r;
   avg.finish(t, c.mass, bath.temperature(), &r);
   r.collisions = c.collisions;
+  r.draws = eng.draws();
   return r;
 }
 
@@ -135,6 +136,7 @@ IntruderEnsemble run_dsmc(const B& bath, const IntruderConfig& c, std::uint64_t 
   avg.finish(t, c.mass, bath.temperature(), &r);
   r.collisions = c.collisions;
   r.omega_max = omega_max;
+  r.draws = eng.draws() + bath_eng.draws();
   return r;
 }
 

@@ -47,6 +47,7 @@ struct IntruderEnsemble {
   std::uint64_t majorant_exceeded = 0;  ///< DSMC: candidates with omega_i1 > omega_max
   double time = 0.0;                    ///< simulated time after the warm-up
   double omega_max = 0.0;               ///< DSMC: the majorant at the end
+  std::uint64_t draws = 0;              ///< raw random numbers drawn (benchmark floor)
   Histogram histogram;                  ///< of v1 at the sample times
 };
 

@@ -251,6 +251,7 @@ NeedleEnsemble simulate_needle(const NeedleConfig& c, std::uint64_t seed, std::u
   avg.finish(t, body, bath.temperature(), &r);
   r.collisions = c.collisions;
   r.fictitious = rejected;
+  r.draws = eng.draws();
   return r;
 }
 

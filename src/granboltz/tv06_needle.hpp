@@ -173,6 +173,7 @@ struct NeedleEnsemble {
   std::uint64_t samples = 0, collisions = 0;
   std::uint64_t fictitious = 0;  ///< thinning: rejected candidate times
   double time = 0.0;             ///< simulated time after the warm-up
+  std::uint64_t draws = 0;       ///< raw random numbers drawn (benchmark floor)
   Histogram velocity_histogram;  ///< of v1x
   Histogram omega_histogram;     ///< of omega
 };

@@ -31,7 +31,12 @@ const ScalarSpec kNeedleScalars[] = {
     {"rotational_temperature_ratio", "T_rot/T_B, T_rot = I <omega^2>"},
     {"R", "<v^2 omega^2> / (<v^2> <omega^2>) (TV06 eq. 30) per ensemble"}};
 
-std::string per_ensemble(const char* name) { return "/" + std::string(name) + "/per_ensemble"; }
+std::string per_ensemble(const char* name) {
+  std::string path = "/";
+  path += name;
+  path += "/per_ensemble";
+  return path;
+}
 
 void declare_histogram(Record& r, const std::string& name, const VelocityHistogramSpec& spec) {
   if (!spec.bins) return;
