@@ -203,3 +203,46 @@ TEST(Checkpoint, CheckpointOfAnotherConfigIsRefused) {
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.output.find("checkpoint of a different config"), std::string::npos) << r.output;
 }
+
+TEST(Checkpoint, EnsemblesKilledMidwayResumeFromTheirSavedState) {
+  // Two long ensembles: the checkpoints hold them in progress (particles and streams), not only
+  // completed ensembles.
+  for (const char* scheme : {"nosplit", "strang"}) {
+    TempDir dir;
+    const std::string cfg = dir.write("c.yaml", std::string(R"(model: dsmc
+seed: 31
+ensembles: 2
+checkpoint: {every_seconds: 0.15}
+dsmc:
+  particles: 60000
+  scheme: )") + scheme + R"(
+  steps: 256
+  alpha: 0.5
+  beta: 1
+  gamma: 4
+  kernel: {lambda: 1, C: 0.0795774715459477}
+  t_end: 4
+  observe_every: 0.5
+  histogram: {shells: 8, radius: 8}
+)");
+    const std::string reference = dir.file("reference.h5"), out = dir.file("out.h5");
+    expect_ok(run_granboltz("run " + cfg + " -q -o " + reference));
+    namespace fs = std::filesystem;
+    const std::string ckpt = out + ".checkpoint";
+    const pid_t pid = spawn({"run", cfg, "-q", "-o", out});
+    for (int i = 0; i < 3000 && !fs::exists(ckpt); ++i)
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    ::kill(pid, SIGKILL);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    ASSERT_TRUE(WIFSIGNALED(status)) << scheme << ": finished before it was killed";
+    {
+      H5Reader c(ckpt);
+      EXPECT_TRUE(c.exists("/in_progress")) << scheme << ": no ensemble saved in progress";
+    }
+    const auto r = run_granboltz("run " + cfg + " -o " + out);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    expect_identical(reference, out);
+  }
+}

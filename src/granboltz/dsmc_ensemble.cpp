@@ -12,6 +12,8 @@ namespace granboltz {
 namespace {
 // Progress is published every this many events: cheap, and frequent enough for a human.
 constexpr std::uint64_t kProgressMask = (1u << 20) - 1;
+// A requested pause is noticed within this many events (well under a millisecond).
+constexpr std::uint64_t kPauseMask = (1u << 14) - 1;
 
 // The lambda cases with a loop of their own: Maxwell molecules, hard spheres, lambda = 1/2, other.
 constexpr int kMaxwell = 0, kHardSpheres = 1, kHalf = 2, kGeneral = 3;
@@ -188,13 +190,19 @@ inline DsmcEnsemble::Pair DsmcEnsemble::select_pair(Engine& pairs, Engine& event
 // ---- Schemes ----
 
 template <bool kHeated, int kLambda, bool kPairwise>
-void DsmcEnsemble::run_nosplit(double s) {
+bool DsmcEnsemble::run_nosplit(double s, const std::atomic<bool>* pause) {
   const double alpha = c_.alpha, beta = c_.beta;
   // Local copies of the streams: kept in registers instead of being stored after every draw.
   Engine ev = events_, pairs = pairs_;
   EventCounts counts = counts_;  // in registers during the loop
   std::uint64_t events = 0;
+  bool reached = true;
   for (;;) {
+    // A pause is taken between events, before the next waiting time is drawn.
+    if (pause && (events & kPauseMask) == 0 && pause->load(std::memory_order_relaxed)) {
+      reached = false;
+      break;
+    }
     const double tau = exponential(ev) * inv_rate_;  // GRW05 step 2.1
     if (t_ + tau >= s) break;
     t_ += tau;
@@ -239,6 +247,7 @@ void DsmcEnsemble::run_nosplit(double s) {
   events_ = ev;
   pairs_ = pairs;
   counts_ = counts;
+  return reached;
 }
 
 void DsmcEnsemble::kick_all_to(double s) {
@@ -349,13 +358,14 @@ void dispatch(int lc, bool pairwise, F&& f) {
 }
 }  // namespace
 
-void DsmcEnsemble::advance_to(double s) {
+bool DsmcEnsemble::advance_to(double s, const std::atomic<bool>* pause) {
   const int lc = lambda_case(c_.kernel.lambda);
   if (c_.scheme == Scheme::kNoSplit) {
+    bool reached = true;
     dispatch(lc, pairwise_, [&]<int L, bool P>() {
-      if (heated_) run_nosplit<true, L, P>(s);
-      else run_nosplit<false, L, P>(s);
+      reached = heated_ ? run_nosplit<true, L, P>(s, pause) : run_nosplit<false, L, P>(s, pause);
     });
+    if (!reached) return false;
     kick_all_to(s);  // step 3.1 / Remark 2
     t_ = s;
   } else {
@@ -367,6 +377,7 @@ void DsmcEnsemble::advance_to(double s) {
     auto k = static_cast<std::uint64_t>(std::llround(t_ / dt));
     const auto k_end = static_cast<std::uint64_t>(std::llround(s / dt));
     for (; k < k_end; ++k) {
+      if (pause && pause->load(std::memory_order_relaxed)) return false;  // between steps
       if (c_.scheme == Scheme::kEuler) {  // RW05 Algorithm 1
         collide_for(dt);
         kick_all_by(dt);
@@ -381,6 +392,92 @@ void DsmcEnsemble::advance_to(double s) {
     t_ = s;
   }
   report(t_);
+  return true;
+}
+
+// ---- Checkpoints ----
+
+namespace {
+void write_engine(H5Writer& out, const std::string& path, const Engine& e) {
+  const auto& st = e.state();
+  out.write(path, std::vector<std::uint64_t>{st[0], st[1], st[2], st[3], e.draws()}, {5});
+}
+Engine read_engine(const H5Reader& in, const std::string& path) {
+  const auto v = in.read_uint64(path);
+  if (v.size() != 5) throw std::runtime_error(in.path() + ": malformed stream state " + path);
+  return Engine({v[0], v[1], v[2], v[3]}, v[4]);
+}
+}  // namespace
+
+void DsmcEnsemble::save(H5Writer& out, const std::string& g) const {
+  const std::size_t n = p_.size();
+  std::vector<double> particles(4 * n);
+  for (std::size_t i = 0; i < n; ++i) {
+    particles[4 * i] = p_[i].v.x;
+    particles[4 * i + 1] = p_[i].v.y;
+    particles[4 * i + 2] = p_[i].v.z;
+    particles[4 * i + 3] = p_[i].t;
+  }
+  out.write(g + "/particles", particles, {n, 4});
+  out.write(g + "/scalars", std::vector<double>{t_, v0_.x, v0_.y, v0_.z, u_max_, w_sum_, w_max_},
+            {7});
+  write_engine(out, g + "/events_stream", events_);
+  write_engine(out, g + "/pairs_stream", pairs_);
+  write_engine(out, g + "/sweep_stream", sweep_);
+  std::vector<std::uint64_t> ring_index;
+  std::vector<double> ring_u;
+  for (const Pair& pair : ring_) {
+    ring_index.push_back(pair.i);
+    ring_index.push_back(pair.j);
+    ring_u.push_back(pair.u);
+  }
+  out.write(g + "/ring_index", ring_index, {kLookahead, 2});
+  out.write(g + "/ring_u", ring_u, {kLookahead});
+  out.write(g + "/counters",
+            std::vector<std::uint64_t>{head_, counts_.collisions, counts_.fictitious, counts_.kicks},
+            {4});
+  if (pairwise_) out.write(g + "/weights", w_, {n});
+}
+
+DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, const H5Reader& in, const std::string& g,
+                           ProgressSlot* progress)
+    : c_(config),
+      p_(config.particles),
+      adapt_factor2_(config.majorant_update == MajorantUpdate::kStrict ? 4.0 : 1.0),
+      heated_(config.beta > 0.0),
+      events_(read_engine(in, g + "/events_stream")),
+      pairs_(read_engine(in, g + "/pairs_stream")),
+      sweep_(read_engine(in, g + "/sweep_stream")),
+      pairwise_(config.majorant == MajorantKind::kPairwise),
+      progress_(progress) {
+  const std::size_t n = p_.size();
+  const auto particles = in.read_double(g + "/particles");
+  const auto scalars = in.read_double(g + "/scalars");
+  const auto ring_index = in.read_uint64(g + "/ring_index");
+  const auto ring_u = in.read_double(g + "/ring_u");
+  const auto counters = in.read_uint64(g + "/counters");
+  if (particles.size() != 4 * n || scalars.size() != 7 || ring_index.size() != 2 * kLookahead ||
+      ring_u.size() != kLookahead || counters.size() != 4 || counters[0] >= kLookahead)
+    throw std::runtime_error(in.path() + ": malformed ensemble state " + g);
+  for (std::size_t i = 0; i < n; ++i) {
+    p_[i].v = {particles[4 * i], particles[4 * i + 1], particles[4 * i + 2]};
+    p_[i].t = particles[4 * i + 3];
+  }
+  t_ = scalars[0];
+  v0_ = {scalars[1], scalars[2], scalars[3]};
+  set_majorant(scalars[4]);
+  for (unsigned k = 0; k < kLookahead; ++k)
+    ring_[k] = {static_cast<std::uint32_t>(ring_index[2 * k]),
+                static_cast<std::uint32_t>(ring_index[2 * k + 1]), ring_u[k]};
+  head_ = static_cast<unsigned>(counters[0]);
+  counts_ = {counters[1], counters[2], counters[3]};
+  if (pairwise_) {
+    w_ = in.read_double(g + "/weights");
+    if (w_.size() != n) throw std::runtime_error(in.path() + ": malformed weights in " + g);
+    w_sum_ = scalars[5];
+    w_max_ = scalars[6];
+    set_pairwise_rate();
+  }
 }
 
 }  // namespace granboltz

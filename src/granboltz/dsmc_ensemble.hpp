@@ -9,6 +9,7 @@
 
 #include "granboltz/dsmc_config.hpp"
 #include "granboltz/ensemble_driver.hpp"
+#include "granboltz/hdf5_io.hpp"
 #include "granboltz/particles.hpp"
 #include "granboltz/rng.hpp"
 
@@ -28,10 +29,18 @@ class DsmcEnsemble {
   DsmcEnsemble(const DsmcConfig& config, std::uint64_t seed, std::uint64_t ensemble,
                ProgressSlot* progress = nullptr);
 
+  /// Restores an ensemble saved by save() (a checkpoint of an interrupted run).
+  DsmcEnsemble(const DsmcConfig& config, const H5Reader& in, const std::string& group,
+               ProgressSlot* progress = nullptr);
+
   /// Advances the system to time s > time(); on return every particle is kicked up to s
   /// (GRW05 Remark 2), ready to be observed. For the splitting schemes s must lie on the grid
-  /// of time steps.
-  void advance_to(double s);
+  /// of time steps. If `pause` becomes true, returns false early at a point between events (or
+  /// between steps) from which a later call continues exactly as if it had not stopped.
+  bool advance_to(double s, const std::atomic<bool>* pause = nullptr);
+
+  /// Writes the complete state (particles, streams, majorant, counts) under `group`.
+  void save(H5Writer& out, const std::string& group) const;
 
   const Particles& particles() const { return p_; }
   double time() const { return t_; }
@@ -51,7 +60,7 @@ class DsmcEnsemble {
   };
 
   template <bool kHeated, int kLambda, bool kPairwise>
-  void run_nosplit(double s);
+  bool run_nosplit(double s, const std::atomic<bool>* pause);
   template <int kLambda, bool kPairwise>
   void collide_during(double h);  // collision step of length h (splitting schemes)
   template <int kLambda, bool kPairwise>

@@ -11,6 +11,7 @@
 namespace granboltz {
 
 class Record;
+class H5Writer;
 
 /// Where a running ensemble publishes how far it got, as a fraction in [0, 1].
 using ProgressSlot = std::atomic<double>;
@@ -20,8 +21,11 @@ struct DriverOptions {
   bool progress = true;        ///< report on stderr when the run lasts more than a few seconds
   std::string label = "run";   ///< shown in progress lines
   double checkpoint_every = 0.0;  ///< seconds between calls of tick; 0: never
-  /// Saves the record of the ensembles completed so far (set by run_to_file).
-  std::function<void(const Record&)> checkpoint;
+  /// Saves the record of the ensembles completed so far and, through the second argument, the
+  /// state of ensembles in progress (set by run_to_file).
+  std::function<void(const Record&, const std::function<void(H5Writer&)>&)> checkpoint;
+  /// A checkpoint to take the states of ensembles in progress from ("" if none).
+  std::string resume_from;
   /// Called from the driver's own thread every checkpoint_every seconds (set by a model's run).
   std::function<void()> tick;
 };

@@ -8,6 +8,7 @@
 #include <ctime>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 
 #include "granboltz/dsmc_run.hpp"
 #include "granboltz/exact_sum.hpp"
@@ -76,9 +77,11 @@ void remove_stale_temporaries(const std::string& path) {
   }
 }
 
-void write_checkpoint(const std::string& path, const Config& config, const Record& record) {
+void write_checkpoint(const std::string& path, const Config& config, const Record& record,
+                      const std::function<void(H5Writer&)>& in_progress) {
   H5Writer out(path);
   record.write(out);
+  in_progress(out);
   out.attr("/", "config", config.to_yaml(true));
   out.attr("/", "shard_index", config.shard.index);
   out.attr("/", "shard_count", config.shard.count);
@@ -155,8 +158,11 @@ void run_to_file(const Config& config, const std::string& path, const DriverOpti
   opts.threads = threads;
   if (config.checkpoint.every_seconds > 0) {
     opts.checkpoint_every = config.checkpoint.every_seconds;
-    opts.checkpoint = [&](const Record& r) { write_checkpoint(checkpoint, config, r); };
+    opts.checkpoint = [&](const Record& r, const std::function<void(H5Writer&)>& in_progress) {
+      write_checkpoint(checkpoint, config, r, in_progress);
+    };
   }
+  if (resumed) opts.resume_from = checkpoint;
   if (config.model == Model::kDsmc) run_dsmc(config, opts, record);
   else run_tv06(config, opts, record);
   const double wall =

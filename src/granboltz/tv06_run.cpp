@@ -110,7 +110,7 @@ void run_missing(const Config& config, const DriverOptions& options, Record& rec
   if (options.checkpoint)
     opts.tick = [&] {
       std::lock_guard<std::mutex> lock(mutex);
-      options.checkpoint(record);
+      options.checkpoint(record, [](H5Writer&) {});  // TV06 ensembles are short: none in progress
     };
   for_each_ensemble(todo, opts, [&](std::uint64_t e, ProgressSlot& slot) {
     const auto result = simulate(e, slot);
