@@ -1,6 +1,7 @@
 """The profiles config/quick.yaml and config/paper.yaml against workflow/schemas/config.schema.yaml."""
 
 import copy
+import math
 import re
 
 import pytest
@@ -41,9 +42,22 @@ def test_every_key_of_a_profile_is_commented(profile):
             assert "#" in line, f"{profile}.yaml: key without a comment: {line!r}"
 
 
-def test_paper_profile_has_the_sizes_of_grw05_table1():
-    ex3 = load("paper")["grw05"]["ex3"]
-    assert ex3["particles"] == [64, 256, 1024, 4096, 16384] and ex3["ensembles"] == 10000
+def test_paper_profile_has_the_sizes_of_the_papers():
+    g, r = load("paper")["grw05"], load("paper")["rw05"]
+    for ex in ("ex3", "ex4"):
+        assert g[ex]["particles"] == [64, 256, 1024, 4096, 16384] and g[ex]["ensembles"] == 10000
+    assert g["ex5"]["ensembles"] == 1000 and g["ex5"]["kernel"]["lambda"] == 1
+    for ex, lam, R, t_end in (("ex7", 0, 40, 2.5), ("ex8", 1, 16, 0.25), ("ex9", 0.5, 24, 0.5)):
+        assert g[ex]["particles"] == [10**7] and g[ex]["ensembles"] == 100 and g[ex]["kernel"]["lambda"] == lam
+        assert g[ex]["histogram"] == {"shells": 128, "radius": R} and g[ex]["t_end"] == t_end
+    assert g["tails"]["fit_window"] == [4.25, 4.6] and g["tails"]["k0"] == 1
+    assert r["transient"]["particles"] == [16, 64, 256, 1024, 4096, 16384, 65536]
+    assert r["transient"]["ensembles"] == r["timestep"]["ensembles"] == 10000 and r["timestep"]["steps"] == [4, 8, 16, 32]
+    assert r["crit"]["ensembles"] == [65536, 16384, 4096] and r["crit_schemes"]["ensembles"] == 4096
+    s = r["steady"]
+    assert (s["particles"], s["t_end"], s["observe_every"], s["steady_from"]) == (65536, 136, 2, 8)
+    assert s["euler_steps"] == [32, 256, 512, 2048, 4096] and s["strang_steps"] == [8, 16, 32, 64]
+    assert r["hot"] == {"beta": 37.5, "steps": 32} and r["physics"]["kernel"]["C"] == pytest.approx(1 / math.pi)
 
 
 BAD = [
@@ -54,7 +68,7 @@ BAD = [
     ("alpha zero", lambda c: c["grw05"]["ex3"].update(alpha=0)),
     ("one particle", lambda c: c["grw05"]["ex3"].update(particles=[1, 64])),
     ("repeated n", lambda c: c["grw05"]["ex3"].update(particles=[64, 64])),
-    ("one ensemble", lambda c: c["grw05"]["ex3"].update(ensembles=1)),
+    ("zero ensembles", lambda c: c["grw05"]["ex3"].update(ensembles=0)),
     ("ensembles not an integer", lambda c: c["grw05"]["ex3"].update(ensembles=10.5)),
     ("negative seed", lambda c: c.update(seed=-1)),
     ("zero threads", lambda c: c.update(threads=0)),
@@ -62,6 +76,16 @@ BAD = [
     ("unknown scheme", lambda c: c["grw05"]["ex3"].update(scheme="leapfrog")),
     ("five panels", lambda c: c["grw05"]["fig1"].update(particles=[64, 128, 256, 512, 1024])),
     ("missing experiment", lambda c: c["grw05"].pop("ex3")),
+    ("unknown profile", lambda c: c.update(profile="full")),
+    ("tail window key", lambda c: c["grw05"]["tails"].update(fit_windw=[1, 2])),
+    ("tail window of three", lambda c: c["grw05"]["tails"].update(fit_window=[1, 2, 3])),
+    ("histogram normalisation", lambda c: c["grw05"]["tails"].update(histogram="area")),
+    ("histogram without shells", lambda c: c["grw05"]["ex7"]["histogram"].pop("shells")),
+    ("rw05 unknown key", lambda c: c["rw05"]["steady"].update(stedy_from=8)),
+    ("rw05 zero steps", lambda c: c["rw05"]["timestep"].update(steps=[0, 4])),
+    ("rw05 no physics", lambda c: c["rw05"].pop("physics")),
+    ("rw05 one replica", lambda c: c["rw05"]["steady"].update(replicas=1)),
+    ("rw05 crit N not integer", lambda c: c["rw05"]["crit"].update(ensembles=[1.5, 2, 3])),
 ]
 
 
@@ -78,3 +102,22 @@ def test_schema_fills_defaults():
     del config["threads"], config["grw05"]["ex3"]["majorant_update"]
     validate(config, SCHEMA)
     assert config["threads"] == 2 and config["grw05"]["ex3"]["majorant_update"] == "paper"
+
+
+def test_every_schema_key_has_a_description():
+    schema = yaml.safe_load(open(SCHEMA))
+
+    def resolve(node):
+        ref = node.get("$ref")
+        return schema["definitions"][ref.rsplit("/", 1)[-1]] if ref else node
+
+    def walk(node, where):
+        for key, prop in node.get("properties", {}).items():
+            assert "description" in prop or "description" in resolve(prop), f"{where}.{key} has no description"
+            walk(resolve(prop), f"{where}.{key}")
+            if "items" in resolve(prop):
+                walk(resolve(resolve(prop)["items"]), f"{where}.{key}[]")
+
+    walk(schema, "config")
+    for name, definition in schema["definitions"].items():
+        walk(definition, name)

@@ -22,12 +22,36 @@ def job_counts(stdout):
     return {m[1]: int(m[2]) for m in rows if m[1] != "total"}
 
 
-@pytest.mark.parametrize("profile,runs", [("quick", 4), ("paper", 5)])
-def test_dry_run_plans_every_job(profile, runs):
+ITEM_RULES = [
+    *[f"grw05_{x}" for x in ("table1", "table2", "tail_exponents", "fig1", "fig2", "fig3", "fig4", "fig5", "fig6",
+                             "fig7")],
+    *[f"rw05_{x}" for x in ("table1", "table2", "table3_euler", "table4_strang", "table5_nosplit", "table6",
+                            "effort", "steady_replicas", "fig1", "fig2", "fig3", "fig4")],
+]
+
+
+def expected_runs(config):
+    """Simulator runs each profile must plan: every n of the GRW05 examples; RW05: transient n,
+    Euler and Strang per K, the Crit runs, the steady runs (Tables 3-5), Table 6, the repeats."""
+    g, r = config["grw05"], config["rw05"]
+    grw05 = sum(len(g[ex]["particles"]) for ex in ("ex3", "ex4", "ex5", "ex7", "ex8", "ex9"))
+    s = r["steady"]
+    rw05 = (len(r["transient"]["particles"]) + 2 * len(r["timestep"]["steps"]) + len(r["crit"]["particles"]) + 3
+            + len(s["euler_steps"]) + len(s["strang_steps"]) + 1 + 3 + 2 * s["replicas"])
+    return grw05, rw05
+
+
+@pytest.mark.parametrize("profile", ["quick", "paper"])
+def test_dry_run_plans_every_job(profile):
+    config = yaml.safe_load((ROOT / "config" / f"{profile}.yaml").read_text())
     result = snakemake("--configfile", f"config/{profile}.yaml", "-n", "--forceall")
     assert result.returncode == 0, result.stderr + result.stdout
     counts = job_counts(result.stdout)
-    assert counts == {"all": 1, "grw05_fig1": 1, "grw05_table1": 1, "grw05_run": runs, "grw05_run_config": runs}
+    grw05, rw05 = expected_runs(config)
+    assert counts.pop("grw05_run") == counts.pop("grw05_run_config") == grw05
+    assert counts.pop("rw05_run") == counts.pop("rw05_run_config") == rw05
+    assert counts.pop("table_tex") == 12  # 11 tables and the window table
+    assert counts == {"all": 1, "report": 1, **{rule: 1 for rule in ITEM_RULES}}
 
 
 @pytest.mark.parametrize("profile", ["quick", "paper"])
@@ -58,3 +82,48 @@ def test_run_configs_carry_the_parameters_and_distinct_seeds(tmp_path):
     again = tmp_path / "again"
     snakemake("--configfile", str(ROOT / "config" / "quick.yaml"), "--directory", str(again), targets[0])
     assert yaml.safe_load((again / targets[0]).read_text()) == first  # reruns are identical
+
+
+def test_rw05_run_configs_carry_scheme_steps_and_steady_keys(tmp_path):
+    targets = {
+        "steady": "results/rw05/steady/euler_K=32/N=1/n=65536/run.yaml",
+        "hot": "results/rw05/hot/strang_K=32/N=1/n=65536/run.yaml",
+        "timestep": "results/rw05/timestep/euler_K=8/N=1000/n=4096/run.yaml",
+        "replica": "results/rw05/replica_3/nosplit/N=1/n=65536/run.yaml",
+        "tail": "results/grw05/ex8/N=8/n=1000000/run.yaml",
+    }
+    result = snakemake("--configfile", str(ROOT / "config" / "quick.yaml"), "--directory", str(tmp_path),
+                       *targets.values())
+    assert result.returncode == 0, result.stderr
+    run = {k: yaml.safe_load((tmp_path / t).read_text()) for k, t in targets.items()}
+    d = run["steady"]["dsmc"]
+    assert (d["scheme"], d["steps"], d["t_end"], d["observe_every"], d["steady_from"]) == ("euler", 544, 136.0, 2.0, 8.0)
+    assert d["kernel"]["C"] == pytest.approx(1 / 3.141592653589793) and d["gamma"] == 1.0 and d["beta"] == 1.0
+    assert run["hot"]["dsmc"]["beta"] == 37.5 and run["hot"]["dsmc"]["scheme"] == "strang"
+    d = run["timestep"]["dsmc"]
+    assert (d["steps"], d["t_end"], d["observe_every"]) == (8, 8.0, 1.0) and "steady_from" not in d
+    assert run["replica"]["dsmc"]["scheme"] == "nosplit" and run["replica"]["dsmc"]["steady_from"] == 8.0
+    assert run["replica"]["seed"] != yaml.safe_load(snakemake_config_text(tmp_path))["seed"]
+    d = run["tail"]["dsmc"]
+    assert d["histogram"] == {"shells": 128, "radius": 16.0} and d["kernel"]["lambda"] == 1 and d["t_end"] == 0.25
+
+
+def snakemake_config_text(tmp_path):
+    target = "results/rw05/steady/nosplit/N=1/n=65536/run.yaml"
+    snakemake("--configfile", str(ROOT / "config" / "quick.yaml"), "--directory", str(tmp_path), target)
+    return (tmp_path / target).read_text()
+
+
+@pytest.mark.parametrize("spoil,message", [
+    (lambda c: c["rw05"]["fig2"].update(particles=[999]), "rw05.fig2.particles"),
+    (lambda c: c["rw05"]["steady"].update(euler_steps=[3]), "rw05.steady"),
+    (lambda c: c["rw05"]["crit"].update(ensembles=[4, 4]), "rw05.crit"),
+    (lambda c: c["grw05"]["tails"].update(fit_window=[4.6, 4.25]), "grw05.tails"),
+])
+def test_workflow_checks_keys_across_the_config(tmp_path, spoil, message):
+    config = yaml.safe_load((ROOT / "config" / "quick.yaml").read_text())
+    spoil(config)
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(yaml.safe_dump(config))
+    result = snakemake("--configfile", str(bad), "-n")
+    assert result.returncode != 0 and message in result.stderr + result.stdout

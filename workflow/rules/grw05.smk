@@ -1,13 +1,26 @@
 """GRW05: Gamba, Rjasanow, Wagner, Math. Comput. Modelling 42 (2005) 683-700.
 
 Raw runs:  results/grw05/<experiment>/N=<ensembles>/n=<particles>/run.h5
-Items:     Table 1 and Fig. 1 (Example 3, §5.2).
+Items:     Tables 1-2 and Figs. 1-2 (Examples 3-4, §5.2), Fig. 3 (Example 5, hard spheres),
+           Figs. 4-7 and the tail exponents (Examples 7-9, §5.3).
 """
 
+GRW05 = config["grw05"]
 
-def grw05_runs(ex, particles):
-    """The HDF5 outputs of experiment `ex` for each n in `particles` (N from the config)."""
-    return expand(rules.grw05_run.output.h5, ex=ex, N=config["grw05"][ex]["ensembles"], n=particles)
+
+def grw05_runs(ex, particles=None):
+    """The HDF5 outputs of experiment `ex` for each n in `particles` (default: all of ex)."""
+    particles = GRW05[ex]["particles"] if particles is None else particles
+    return expand(rules.grw05_run.output.h5, ex=ex, N=GRW05[ex]["ensembles"], n=particles)
+
+
+def grw05_run_config(wildcards):
+    """Run config of results/grw05/{ex}/N={N}/n={n}: the experiment's keys, with its histogram."""
+    e = GRW05[wildcards.ex]
+    extra = {"histogram": dict(e["histogram"])} if "histogram" in e else {}
+    label = f"grw05/{wildcards.ex}/n={wildcards.n}"
+    return dsmc_run_config(label, e, wildcards.N, wildcards.n, e["t_end"], e["observe_every"],
+                           scheme=e.get("scheme", "nosplit"), **extra)
 
 
 localrules:
@@ -20,7 +33,7 @@ rule grw05_run_config:
     log:
         "logs/grw05/{ex}/N={N}/n={n}/run_config.log",
     params:
-        run=lambda wc: dsmc_run_config("grw05", wc.ex, wc.N, wc.n),
+        run=grw05_run_config,
     script:
         "../scripts/write_run_config.py"
 
@@ -35,22 +48,19 @@ rule grw05_run:
         "logs/grw05/{ex}/N={N}/n={n}/run.log",
     benchmark:
         "benchmarks/grw05/{ex}/N={N}/n={n}/run.tsv"
-    threads: config["threads"]
+    threads: run_threads
     resources:
-        mem_mb=config["run_mem_mb"],
+        mem_mb=run_mem_mb,
     shell:
         "{input.granboltz} run {input.config} -o {output.h5} --threads {threads} > {log} 2>&1"
 
 
+# ----------------------------------------------------------------------------- Tables 1, 2
 rule grw05_table1:
     input:
-        runs=grw05_runs("ex3", config["grw05"]["ex3"]["particles"]),
+        runs=grw05_runs("ex3"),
     output:
-        csv=report(
-            "results/tables/grw05_table1.csv",
-            caption="../report/grw05_table1.rst",
-            category="GRW05",
-        ),
+        csv=report("results/tables/grw05_table1.csv", caption="../report/grw05_table1.rst", category="GRW05"),
     log:
         "logs/tables/grw05_table1.log",
     benchmark:
@@ -59,17 +69,173 @@ rule grw05_table1:
         "../scripts/grw05_convergence_table.py"
 
 
+rule grw05_table2:
+    input:
+        runs=grw05_runs("ex4"),
+    output:
+        csv=report("results/tables/grw05_table2.csv", caption="../report/grw05_table1.rst", category="GRW05"),
+    log:
+        "logs/tables/grw05_table2.log",
+    benchmark:
+        "benchmarks/tables/grw05_table2.tsv"
+    script:
+        "../scripts/grw05_convergence_table.py"
+
+
+report_item("GRW05", "Table 1", rules.grw05_table1, "table", rules.grw05_table1.output.csv,
+            "Example 3 (λ = 0, β = 1): E_max of T(t) against eq. (34) falls like 1/n (CF ≈ 4); ‖V‖∞ stays small",
+            runs=rules.grw05_table1.input.runs, run_rule=rules.grw05_run, compare="convergence",
+            published="grw05_table1")
+report_item("GRW05", "Table 2", rules.grw05_table2, "table", rules.grw05_table2.output.csv,
+            "Example 4 (λ = 0, β = 1/8, T decreasing to 1/3): E_max against eq. (36), CF ≈ 4",
+            runs=rules.grw05_table2.input.runs, run_rule=rules.grw05_run, compare="convergence",
+            published="grw05_table2")
+
+
+# ----------------------------------------------------------------------------- Figs. 1, 2
 rule grw05_fig1:
     input:
-        runs=grw05_runs("ex3", config["grw05"]["fig1"]["particles"]),
+        runs=grw05_runs("ex3", GRW05["fig1"]["particles"]),
     output:
         png=report("figures/grw05_fig1.png", caption="../report/grw05_fig1.rst", category="GRW05"),
         pdf="figures/grw05_fig1.pdf",
+        summary="results/figures/grw05_fig1.json",
     log:
         "logs/figures/grw05_fig1.log",
     benchmark:
         "benchmarks/figures/grw05_fig1.tsv"
     params:
-        t_range=config["grw05"]["fig1"]["t_range"],
+        t_range=GRW05["fig1"]["t_range"],
     script:
-        "../scripts/grw05_temperature_bands.py"
+        "../scripts/temperature_bands.py"
+
+
+rule grw05_fig2:
+    input:
+        runs=grw05_runs("ex4", GRW05["fig2"]["particles"]),
+    output:
+        png=report("figures/grw05_fig2.png", caption="../report/grw05_fig1.rst", category="GRW05"),
+        pdf="figures/grw05_fig2.pdf",
+        summary="results/figures/grw05_fig2.json",
+    log:
+        "logs/figures/grw05_fig2.log",
+    benchmark:
+        "benchmarks/figures/grw05_fig2.tsv"
+    params:
+        t_range=GRW05["fig2"]["t_range"],
+    script:
+        "../scripts/temperature_bands.py"
+
+
+for _fig, _what in (("1", "Example 3: confidence bands (eq. 31) of T(t) against eq. (34) on [2, 8], n = 64 … 4096"),
+                    ("2", "Example 4: confidence bands of T(t) against eq. (36) on [2, 8], n = 64 … 4096")):
+    _rule = getattr(rules, f"grw05_fig{_fig}")
+    report_item("GRW05", f"Fig. {_fig}", _rule, "figure", _rule.output.png, _what, runs=_rule.input.runs,
+                run_rule=rules.grw05_run, summary=_rule.output.summary)
+
+
+# ----------------------------------------------------------------------------- Fig. 3
+rule grw05_fig3:
+    input:
+        runs=grw05_runs("ex5"),
+    output:
+        png=report("figures/grw05_fig3.png", caption="../report/grw05_fig3.rst", category="GRW05"),
+        pdf="figures/grw05_fig3.pdf",
+        summary="results/figures/grw05_fig3.json",
+    log:
+        "logs/figures/grw05_fig3.log",
+    benchmark:
+        "benchmarks/figures/grw05_fig3.tsv"
+    params:
+        t_range=GRW05["fig3"]["t_range"],
+    script:
+        "../scripts/temperature_curves.py"
+
+
+report_item("GRW05", "Fig. 3", rules.grw05_fig3, "figure", rules.grw05_fig3.output.png,
+            "Example 5 (hard spheres): T(t) for n = 64 … 4096 (from above) converges as n grows",
+            runs=rules.grw05_fig3.input.runs, run_rule=rules.grw05_run, summary=rules.grw05_fig3.output.summary)
+
+
+# ----------------------------------------------------------------------------- Fig. 4
+rule grw05_fig4:
+    input:
+        runs=grw05_runs("ex7"),
+    output:
+        png=report("figures/grw05_fig4.png", caption="../report/grw05_fig4.rst", category="GRW05"),
+        pdf="figures/grw05_fig4.pdf",
+        summary="results/figures/grw05_fig4.json",
+    log:
+        "logs/figures/grw05_fig4.log",
+    benchmark:
+        "benchmarks/figures/grw05_fig4.tsv"
+    params:
+        left=GRW05["fig4"]["left"],
+        right=GRW05["fig4"]["right"],
+    script:
+        "../scripts/histograms.py"
+
+
+report_item("GRW05", "Fig. 4", rules.grw05_fig4, "figure", rules.grw05_fig4.output.png,
+            "Example 7: initial (thick) and final (thin) histograms f_k, r ∈ [0, 10] and the overpopulated tail r ∈ [2, 10]",
+            runs=rules.grw05_fig4.input.runs, run_rule=rules.grw05_run, summary=rules.grw05_fig4.output.summary)
+
+
+# ----------------------------------------------------------------------------- tail exponents
+rule grw05_tail_exponents:
+    input:
+        ex7=grw05_runs("ex7"),
+        ex8=grw05_runs("ex8"),
+        ex9=grw05_runs("ex9"),
+    output:
+        csv=report("results/tables/grw05_tail_exponents.csv", caption="../report/grw05_tails.rst", category="GRW05"),
+        windows="results/tables/grw05_tail_windows.csv",
+    log:
+        "logs/tables/grw05_tail_exponents.log",
+    benchmark:
+        "benchmarks/tables/grw05_tail_exponents.tsv"
+    params:
+        tails=GRW05["tails"],
+    script:
+        "../scripts/tail_exponents.py"
+
+
+report_item("GRW05", "Tail exponents", rules.grw05_tail_exponents, "table", rules.grw05_tail_exponents.output.csv,
+            "least-squares slope b of (x_k, y_k), eq. (38), on x ∈ [4.25, 4.6]: 0.998 (λ = 0), 1.474 (λ = 1), 1.266 (λ = 1/2)",
+            runs=rules.grw05_tail_exponents.input, run_rule=rules.grw05_run, compare="tails",
+            published="grw05_tail_exponents", extra=[rules.grw05_tail_exponents.output.windows])
+
+
+# ----------------------------------------------------------------------------- Figs. 5-7
+for _fig, _ex, _what in (
+    (5, "ex7", "Example 7 (λ = 0): (x_k, y_k) of eq. (38), k0 = 1, with y = x − 2, 1.25x − 2, 1.5x − 2; fitted b = 0.998"),
+    (6, "ex8", "Example 8 (hard spheres): (x_k, y_k) with y = x − 3, 1.25x − 3, 1.5x − 3; fitted b = 1.474"),
+    (7, "ex9", "Example 9 (λ = 1/2): (x_k, y_k) with y = x − 2, 1.25x − 2, 1.5x − 2; fitted b = 1.266"),
+):
+
+    rule:
+        name:
+            f"grw05_fig{_fig}"
+        input:
+            runs=grw05_runs(_ex),
+        output:
+            png=report(f"figures/grw05_fig{_fig}.png", caption="../report/grw05_tail_figure.rst", category="GRW05"),
+            pdf=f"figures/grw05_fig{_fig}.pdf",
+            summary=f"results/figures/grw05_fig{_fig}.json",
+        log:
+            f"logs/figures/grw05_fig{_fig}.log",
+        benchmark:
+            f"benchmarks/figures/grw05_fig{_fig}.tsv"
+        params:
+            tails=GRW05["tails"],
+            guide_intercept=GRW05["tails"]["guide_intercepts"][_ex],
+            example=int(_ex[2:]),
+        script:
+            "../scripts/tail_plot.py"
+
+    _rule = getattr(rules, f"grw05_fig{_fig}")
+    report_item("GRW05", f"Fig. {_fig}", _rule, "figure", _rule.output.png, _what, runs=_rule.input.runs,
+                run_rule=rules.grw05_run, summary=_rule.output.summary)
+
+
+GRW05_OUTPUTS = [item["output"] for item in REPORT_ITEMS if item["paper"] == "GRW05"]

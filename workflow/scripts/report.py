@@ -1,0 +1,58 @@
+"""The reproduction report of every GRW05 and RW05 item (and the TV06 items registered later):
+paper/reproduction.md (for a code host) and paper/reproduction.html (self-contained: figures
+as base64 data URIs, inline CSS, no external reference), both rendered from one document
+(granboltz_report.build_document): published numbers and ours side by side with confidence
+intervals, convergence factors and verdicts, every figure with its caption, provenance.
+"""
+
+import sys
+
+sys.stderr = open(snakemake.log[0], "w", buffering=1)
+
+import csv  # noqa: E402
+import json  # noqa: E402
+
+import h5py  # noqa: E402
+
+import granboltz_common as gc  # noqa: E402
+import granboltz_report as gr  # noqa: E402
+
+inp, items = snakemake.input, snakemake.params.manifest
+available = set(inp)
+for item in items:  # everything an item refers to must be an input of this step
+    for path in [item["output"], item["published"], item["summary"], *item["extra"], *item["runs"],
+                 *item["benchmarks"]]:
+        if path and path not in available:
+            raise ValueError(f"report item {item['paper']} {item['item']}: {path} is not an input of rule report")
+
+
+def seconds(path):
+    with open(path, newline="") as f:
+        return float(next(csv.DictReader(f, delimiter="\t"))["s"])
+
+
+def attrs(path):
+    with h5py.File(path, "r") as f:
+        return gc.run_attrs(f)
+
+
+data = {
+    "tables": {path: gc.read_csv(path) for path in inp.tables},
+    "published": {path: gc.read_csv(path) for path in inp.published},
+    "summaries": {path: json.load(open(path)) for path in inp.summaries},
+    "bench": {path: seconds(path) for path in inp.benchmarks},
+    "runs": {path: attrs(path) for path in inp.runs},
+}
+doc = gr.build_document(items, data, snakemake.params.config, snakemake.params.machine, snakemake.params.profile)
+
+
+def read_image(path):
+    if path not in available:
+        raise ValueError(f"{path} is not an input of rule report")
+    with open(path, "rb") as f:
+        return f.read()
+
+
+gc.write_text(gr.render_md(doc, image_prefix="../"), snakemake.output.md)
+gc.write_text(gr.render_html(doc, read_image, "Reproduction of GRW05 and RW05"), snakemake.output.html)
+print(f"{len(items)} items, {len(data['runs'])} runs, {len(doc)} blocks", file=sys.stderr)
