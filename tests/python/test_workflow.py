@@ -34,7 +34,7 @@ def expected_runs(config):
     """Simulator runs each profile must plan: every n of the GRW05 examples; RW05: transient n,
     Euler and Strang per K, the Crit runs, the steady runs (Tables 3-5), Table 6, the repeats."""
     g, r = config["grw05"], config["rw05"]
-    grw05 = sum(len(g[ex]["particles"]) for ex in ("ex3", "ex4", "ex5", "ex7", "ex8", "ex9"))
+    grw05 = {ex: len(g[ex]["particles"]) for ex in ("ex3", "ex4", "ex5", "ex7", "ex8", "ex9")}
     s = r["steady"]
     rw05 = (len(r["transient"]["particles"]) + 2 * len(r["timestep"]["steps"]) + len(r["crit"]["particles"]) + 3
             + len(s["euler_steps"]) + len(s["strang_steps"]) + 1 + 3 + 2 * s["replicas"])
@@ -48,7 +48,12 @@ def test_dry_run_plans_every_job(profile):
     assert result.returncode == 0, result.stderr + result.stdout
     counts = job_counts(result.stdout)
     grw05, rw05 = expected_runs(config)
-    assert counts.pop("grw05_run") == counts.pop("grw05_run_config") == grw05
+    # Sharded experiments run one job per shard and a merge instead of one run job.
+    shards = {ex: config["grw05"][ex].get("shards", 1) for ex in grw05}
+    assert counts.pop("grw05_run_config") == sum(grw05.values())
+    assert counts.pop("grw05_run", 0) == sum(k for ex, k in grw05.items() if shards[ex] == 1)
+    assert counts.pop("grw05_shard", 0) == sum(k * shards[ex] for ex, k in grw05.items() if shards[ex] > 1)
+    assert counts.pop("grw05_merge", 0) == sum(k for ex, k in grw05.items() if shards[ex] > 1)
     assert counts.pop("rw05_run") == counts.pop("rw05_run_config") == rw05
     assert counts.pop("table_tex") == 12  # 11 tables and the window table
     assert counts == {"all": 1, "report": 1, **{rule: 1 for rule in ITEM_RULES}}

@@ -120,12 +120,19 @@ def dsmc_run_config(label, physics, N, n, t_end, observe_every, **dsmc):
     }
 
 
+# Runs made from shards: run output -> the benchmark files of its shard and merge jobs.
+SHARDED_RUN_BENCHMARKS = {}
+
+
 def run_benchmarks(run_rule, runs):
     """The benchmark files of `runs` (outputs h5 of run_rule), from the rule's own patterns."""
     from snakemake.io import glob_wildcards
 
     bench = []
     for h5 in runs:
+        if str(h5) in SHARDED_RUN_BENCHMARKS:
+            bench += SHARDED_RUN_BENCHMARKS[str(h5)]
+            continue
         wc = glob_wildcards(run_rule.output.h5, files=[h5])
         bench += expand(run_rule.benchmark, zip, **wc._asdict())
     return bench

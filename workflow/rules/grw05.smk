@@ -6,12 +6,34 @@ Items:     Tables 1-2 and Figs. 1-2 (Examples 3-4, §5.2), Fig. 3 (Example 5, ha
 """
 
 GRW05 = config["grw05"]
+# Experiments whose runs are split into shards of ensembles (`shards` > 1) and merged.
+GRW05_EXPERIMENTS = [k for k, v in GRW05.items() if isinstance(v, dict) and "ensembles" in v]
+GRW05_SHARDED = [k for k in GRW05_EXPERIMENTS if GRW05[k].get("shards", 1) > 1]
+
+
+def _one_of(names):
+    """A wildcard constraint matching exactly these names (nothing when empty)."""
+    return "|".join(names) if names else "(?!x)x"
+
+
+def grw05_shards(wildcards):
+    """The shard outputs of a sharded run."""
+    S = GRW05[wildcards.ex]["shards"]
+    return expand(rules.grw05_shard.output.h5, i=range(S), S=S, allow_missing=True)
 
 
 def grw05_runs(ex, particles=None):
     """The HDF5 outputs of experiment `ex` for each n in `particles` (default: all of ex)."""
     particles = GRW05[ex]["particles"] if particles is None else particles
-    return expand(rules.grw05_run.output.h5, ex=ex, N=GRW05[ex]["ensembles"], n=particles)
+    runs = expand("results/grw05/{ex}/N={N}/n={n}/run.h5", ex=ex, N=GRW05[ex]["ensembles"], n=particles)
+    if ex in GRW05_SHARDED:
+        S = GRW05[ex]["shards"]
+        for run, n in zip(runs, particles):
+            base = f"benchmarks/grw05/{ex}/N={GRW05[ex]['ensembles']}/n={n}"
+            SHARDED_RUN_BENCHMARKS[run] = [f"{base}/shard={i}of{S}.tsv" for i in range(S)] + [
+                f"{base}/merge.tsv"
+            ]
+    return runs
 
 
 def grw05_run_config(wildcards):
@@ -48,11 +70,53 @@ rule grw05_run:
         "logs/grw05/{ex}/N={N}/n={n}/run.log",
     benchmark:
         "benchmarks/grw05/{ex}/N={N}/n={n}/run.tsv"
+    wildcard_constraints:
+        ex=_one_of([k for k in GRW05_EXPERIMENTS if k not in GRW05_SHARDED]),
     threads: run_threads
     resources:
         mem_mb=run_mem_mb,
     shell:
         "{input.granboltz} run {input.config} -o {output.h5} --threads {threads} > {log} 2>&1"
+
+
+# Sharded runs: one job per shard of ensembles (a cluster runs them side by side), then a merge
+# that is identical, bit for bit, to the unsharded run.
+rule grw05_shard:
+    input:
+        config=rules.grw05_run_config.output.yaml,
+        granboltz=config["granboltz"],
+    output:
+        h5=temp("results/grw05/{ex}/N={N}/n={n}/shard={i}of{S}.h5"),
+    log:
+        "logs/grw05/{ex}/N={N}/n={n}/shard={i}of{S}.log",
+    benchmark:
+        "benchmarks/grw05/{ex}/N={N}/n={n}/shard={i}of{S}.tsv"
+    wildcard_constraints:
+        ex=_one_of(GRW05_SHARDED),
+        i=r"\d+",
+        S=r"\d+",
+    threads: run_threads
+    resources:
+        mem_mb=run_mem_mb,
+    shell:
+        "{input.granboltz} run {input.config} -o {output.h5} --threads {threads}"
+        " --set shard.index={wildcards.i} --set shard.count={wildcards.S} > {log} 2>&1"
+
+
+rule grw05_merge:
+    input:
+        shards=grw05_shards,
+        granboltz=config["granboltz"],
+    output:
+        h5="results/grw05/{ex}/N={N}/n={n}/run.h5",
+    log:
+        "logs/grw05/{ex}/N={N}/n={n}/merge.log",
+    benchmark:
+        "benchmarks/grw05/{ex}/N={N}/n={n}/merge.tsv"
+    wildcard_constraints:
+        ex=_one_of(GRW05_SHARDED),
+    shell:
+        "{input.granboltz} merge {input.shards} -o {output.h5} > {log} 2>&1"
 
 
 # ----------------------------------------------------------------------------- Tables 1, 2
