@@ -6,7 +6,7 @@ BUILD ?= build
 JOBS ?= 2
 PROFILE ?= config/quick.yaml
 
-.PHONY: all deps build test test-cpp test-python reproduce paper bench sanitize clean
+.PHONY: all deps build test test-cpp test-python test-sanitize reproduce paper bench sanitize clean
 
 all: build
 
@@ -27,6 +27,15 @@ test-cpp:
 
 test-python:
 	/usr/bin/python3 -m pytest -q tests/python
+
+## make test-sanitize: the C++ suite built with AddressSanitizer + UndefinedBehaviorSanitizer
+## (build-asan; every finding, leaks included, fails the test), without the tests labelled slow
+SANITIZE_BUILD ?= build-asan
+test-sanitize: deps
+	cmake -S . -B $(SANITIZE_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGRANBOLTZ_SANITIZE=ON \
+	  -DGRANBOLTZ_BENCH=OFF
+	cmake --build $(SANITIZE_BUILD) -j $(JOBS)
+	cd $(SANITIZE_BUILD) && ctest --output-on-failure -j $(JOBS) -LE slow
 
 ## make reproduce: every table and figure at reduced size (config/quick.yaml)
 reproduce: deps build

@@ -4,6 +4,7 @@
 #include <csignal>
 #include <cstdio>
 #include <iostream>
+#include <new>
 #include <unistd.h>
 
 #include "granboltz/config.hpp"
@@ -43,7 +44,8 @@ int main(int argc, char** argv) {
   auto* run = app.add_subcommand("run", "run a config and write its HDF5 output");
   run->add_option("config", config_path, "run config (YAML)")->required();
   run->add_option("-o,--output", output, "output file (HDF5)")->required();
-  run->add_option("--threads", threads, "worker threads (0: all cores; never changes results)");
+  run->add_option("--threads", threads, "worker threads (0: all cores; never changes results)")
+      ->check(CLI::Range(0u, 1024u));
   run->add_option("--set", sets, "override a config key: --set dsmc.particles=1024");
   run->add_flag("-q,--quiet", quiet, "no progress reports");
 
@@ -55,10 +57,46 @@ int main(int argc, char** argv) {
   merge->add_option("inputs", inputs, "shard outputs (HDF5)")->required();
   merge->add_option("-o,--output", output, "merged output (HDF5)")->required();
 
+  // Command-line errors are one line on stderr with exit code 2, like config errors; --help and
+  // --version keep CLI11's output and exit code 0.
+  if (argc == 1) {
+    std::fprintf(stderr, "granboltz: error: a command is required: run, validate or merge "
+                 "(see granboltz --help)\n");
+    return 2;
+  }
+  if (argv[1][0] == '-') {
+    const std::string option = argv[1];
+    if (option != "-h" && option != "--help" && option != "--version") {
+      std::fprintf(stderr,
+                   "granboltz: error: %s: unknown option; expected a command: run, validate "
+                   "or merge (see granboltz --help)\n",
+                   argv[1]);
+      return 2;
+    }
+  } else {
+    const std::string command = argv[1];
+    if (command != "run" && command != "validate" && command != "merge") {
+      std::fprintf(stderr,
+                   "granboltz: error: %s: unknown command; expected run, validate or merge"
+                   " (see granboltz --help)\n",
+                   argv[1]);
+      return 2;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    if (e.get_exit_code() == 0) return app.exit(e);
+    std::string what = e.what();
+    for (auto& ch : what)
+      if (ch == '\n' || ch == '\r') ch = ' ';
+    std::fprintf(stderr, "granboltz: error: %s (see granboltz --help)\n", what.c_str());
+    return 2;
+  }
+
+  if ((*run || *merge) && output.empty()) {
+    std::fprintf(stderr, "granboltz: error: --output is empty: give the output file's name\n");
+    return 2;
   }
 
   std::signal(SIGINT, on_signal);
@@ -83,8 +121,14 @@ int main(int argc, char** argv) {
   } catch (const granboltz::ConfigError& e) {
     std::fprintf(stderr, "granboltz: error: %s\n", e.what());
     return 2;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "granboltz: error: out of memory\n");
+    return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "granboltz: error: %s\n", e.what());
+    return 1;
+  } catch (...) {
+    std::fprintf(stderr, "granboltz: error: unexpected internal error\n");
     return 1;
   }
 }

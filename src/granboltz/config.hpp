@@ -6,6 +6,7 @@
 
 #include "granboltz/config_reader.hpp"
 #include "granboltz/dsmc_config.hpp"
+#include "granboltz/int128.hpp"
 #include "granboltz/tv06_config.hpp"
 
 namespace granboltz {
@@ -33,9 +34,13 @@ struct Config {
   IntruderConfig intruder;
   NeedleConfig needle;
 
-  /// The ensembles this shard runs: [first, last).
-  std::uint64_t first_ensemble() const { return ensembles * shard.index / shard.count; }
-  std::uint64_t last_ensemble() const { return ensembles * (shard.index + 1) / shard.count; }
+  /// The ensembles this shard runs: [first, last) (in 128 bits: N * index may exceed 2^64).
+  std::uint64_t first_ensemble() const {
+    return static_cast<std::uint64_t>(uint128{ensembles} * shard.index / shard.count);
+  }
+  std::uint64_t last_ensemble() const {
+    return static_cast<std::uint64_t>(uint128{ensembles} * (shard.index + 1) / shard.count);
+  }
 
   /// The complete config with every default made explicit. With physics_only, the keys that
   /// cannot change results (threads, shard, checkpoint) are left out: this text is what every

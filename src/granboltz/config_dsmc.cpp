@@ -66,7 +66,8 @@ DsmcConfig read_dsmc(const Section& s) {
           "must satisfy 0 < observe_every <= t_end");
   s.check(is_multiple(c.t_end, c.observe_every), "observe_every", c.observe_every,
           "t_end = " + format_real(c.t_end) + " must be a whole multiple of it");
-  s.check(c.observations() <= 10'000'000, "observe_every", c.observe_every,
+  s.check(c.t_end / c.observe_every < 1e7 + 0.5 && c.observations() <= 10'000'000,
+          "observe_every", c.observe_every,
           "gives more than 10^7 observation times");
 
   if (c.scheme == Scheme::kNoSplit) {

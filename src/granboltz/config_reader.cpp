@@ -16,10 +16,36 @@ std::string scalar_text(const YAML::Node& n) {
   return "{...}";
 }
 
+constexpr std::uint64_t kMaxInteger = std::uint64_t{1} << 53;
+
 std::string join(const std::vector<std::string>& v, const std::string& sep) {
   std::string out;
   for (std::size_t i = 0; i < v.size(); ++i) out += (i ? sep : "") + v[i];
   return out;
+}
+
+// yaml-cpp keeps both entries of a repeated key and lookups see only the first: reject them.
+// The depth bound also stops at aliases that refer to an enclosing node.
+void check_unique_keys(const YAML::Node& n, const std::string& path, const std::string& origin,
+                       int depth) {
+  if (depth > 64)
+    throw ConfigError(origin +
+                      ": nested more than 64 levels deep (an alias to an enclosing node?)");
+  if (n.IsSequence()) {
+    for (std::size_t i = 0; i < n.size(); ++i)
+      check_unique_keys(n[i], path + "[" + std::to_string(i) + "]", origin, depth + 1);
+    return;
+  }
+  if (!n.IsMap()) return;
+  std::set<std::string> keys;
+  for (const auto& kv : n) {
+    const std::string key = kv.first.IsScalar() ? kv.first.Scalar() : scalar_text(kv.first);
+    const std::string full = path.empty() ? key : path + "." + key;
+    if (kv.first.IsScalar() && !keys.insert(key).second)
+      throw ConfigError(full + ": given twice (line " + std::to_string(kv.first.Mark().line + 1) +
+                        " of " + origin + ")");
+    check_unique_keys(kv.second, full, origin, depth + 1);
+  }
 }
 
 }  // namespace
@@ -73,6 +99,14 @@ std::uint64_t Section::integer(const std::string& key) const {
   if (!n.IsScalar())
     throw ConfigError(name(key) + " = " + scalar_text(n) + ": must be an integer");
   const std::string& s = n.Scalar();
+  // Plain digits are read exactly, so that 2^53 + 1 is not silently rounded to 2^53.
+  if (!s.empty() && s.find_first_not_of("0123456789") == std::string::npos) {
+    std::uint64_t v = 0;
+    const auto res = std::from_chars(s.data(), s.data() + s.size(), v);
+    if (res.ec == std::errc::result_out_of_range || v > kMaxInteger)
+      throw ConfigError(name(key) + " = " + s + ": too large (> 2^53)");
+    return v;
+  }
   // Accept 4096 as well as 1e7 or 1.0e+4 when the value is a whole number.
   double x = 0;
   try {
@@ -83,7 +117,9 @@ std::uint64_t Section::integer(const std::string& key) const {
   if (!std::isfinite(x) || x != std::floor(x))
     throw ConfigError(name(key) + " = " + s + ": not an integer");
   if (x < 0) throw ConfigError(name(key) + " = " + s + ": must be >= 0");
-  if (x > 9007199254740992.0) throw ConfigError(name(key) + " = " + s + ": too large (> 2^53)");
+  // A double at 2^53 may be a rounded larger integer: only smaller ones are exact.
+  if (x >= static_cast<double>(kMaxInteger))
+    throw ConfigError(name(key) + " = " + s + ": too large (> 2^53)");
   return static_cast<std::uint64_t>(x);
 }
 
@@ -112,13 +148,22 @@ Section Section::sub(const std::string& key) const {
 
 void Section::check(bool ok, const std::string& key, double value,
                     const std::string& allowed) const {
-  if (!ok) throw ConfigError(name(key) + " = " + format_real(value) + ": " + allowed);
+  if (ok) return;
+  // Whole numbers (counts, and reals like 2) are written out: 2000000, not 2e+06.
+  const bool whole = value == std::floor(value) && std::fabs(value) < 9007199254740992.0;
+  const std::string text =
+      whole ? std::to_string(static_cast<std::int64_t>(value)) : format_real(value);
+  throw ConfigError(name(key) + " = " + text + ": " + allowed);
 }
 
 void Section::finish(const std::vector<std::string>& allowed_keys) const {
   if (!node_ || !node_.IsMap()) return;
   for (const auto& kv : node_) {
-    const std::string key = kv.first.as<std::string>();
+    if (!kv.first.IsScalar())
+      throw ConfigError(name(scalar_text(kv.first)) +
+                        ": unknown key (keys are plain names); allowed here: " +
+                        join(allowed_keys, ", "));
+    const std::string key = kv.first.Scalar();
     bool ok = false;
     for (const auto& a : allowed_keys) ok = ok || a == key;
     if (!ok)
@@ -130,13 +175,24 @@ YAML::Node load_yaml_with_overrides(const std::string& text, const std::string& 
                                     const std::vector<std::string>& overrides) {
   YAML::Node root;
   try {
-    root = YAML::Load(text);
+    const std::vector<YAML::Node> documents = YAML::LoadAll(text);
+    if (documents.size() > 1)
+      throw ConfigError(origin + ": holds " + std::to_string(documents.size()) +
+                        " YAML documents; a config is a single document");
+    if (!documents.empty()) root = documents.front();
   } catch (const YAML::Exception& e) {
     throw ConfigError(origin + ": YAML syntax error at line " + std::to_string(e.mark.line + 1) +
                       ", column " + std::to_string(e.mark.column + 1) + ": " + e.msg);
   }
-  if (root.IsNull()) root = YAML::Node(YAML::NodeType::Map);
+  if (!root || root.IsNull()) {
+    // An empty file is an error unless --set gives the whole config.
+    if (overrides.empty())
+      throw ConfigError(origin + ": empty config; it needs at least model, seed and the section "
+                        "of the model");
+    root = YAML::Node(YAML::NodeType::Map);
+  }
   if (!root.IsMap()) throw ConfigError(origin + ": the config must be a mapping of keys to values");
+  check_unique_keys(root, "", origin, 0);
   for (const auto& item : overrides) {
     const auto eq = item.find('=');
     if (eq == std::string::npos || eq == 0)
@@ -148,6 +204,7 @@ YAML::Node load_yaml_with_overrides(const std::string& text, const std::string& 
     } catch (const YAML::Exception& e) {
       throw ConfigError("--set " + item + ": value is not valid YAML: " + e.msg);
     }
+    check_unique_keys(value, item.substr(0, eq), "--set " + item, 0);
     std::vector<std::string> parts;
     std::stringstream ss(key);
     for (std::string p; std::getline(ss, p, '.');) {

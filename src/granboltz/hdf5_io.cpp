@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <stdexcept>
 
 namespace granboltz {
@@ -35,6 +36,11 @@ struct Handle {  // closes an HDF5 id with the right function
 
 H5Writer::H5Writer(const std::string& path)
     : path_(path), tmp_(path + ".tmp." + std::to_string(::getpid())) {
+  // Refused here, before any work, rather than when the finished file is renamed into place.
+  if (path.empty()) fail("the output path is empty");
+  std::error_code ec;
+  if (path.back() == '/' || std::filesystem::is_directory(path, ec))
+    fail(path + ": is a directory; give the output file's name");
   file_ = H5Fcreate(tmp_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
   if (file_ < 0) fail(path + ": cannot create output file (is the directory writable?)");
 }
@@ -141,6 +147,9 @@ void H5Writer::commit() {
 }
 
 H5Reader::H5Reader(const std::string& path) : path_(path) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) fail(path + ": no such file");
+  if (std::filesystem::is_directory(path, ec)) fail(path + ": is a directory, not an HDF5 file");
   if (H5Fis_hdf5(path.c_str()) <= 0)
     fail(path + ": not a readable HDF5 file");
   file_ = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <limits>
 
 #include "granboltz/dsmc_run.hpp"
 #include "granboltz/exact_sum.hpp"
@@ -122,7 +123,9 @@ std::uint64_t estimate_memory(const Config& config, unsigned threads) {
   } else {
     bytes += tv06_memory_estimate(config, threads);
   }
-  return static_cast<std::uint64_t>(bytes);
+  // Absurd sizes exceed 2^64 bytes, where the conversion would be undefined (and wrap to small).
+  return bytes < 18446744073709551616.0 ? static_cast<std::uint64_t>(bytes)
+                                        : std::numeric_limits<std::uint64_t>::max();
 }
 
 void run_to_file(const Config& config, const std::string& path, const DriverOptions& options,
