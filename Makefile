@@ -37,6 +37,13 @@ test-sanitize: deps
 	cmake --build $(SANITIZE_BUILD) -j $(JOBS)
 	cd $(SANITIZE_BUILD) && ctest --output-on-failure -j $(JOBS) -LE slow
 
+## make bench: whole-run benchmarks (median of REPEAT runs, with the random-number floor) as a
+## table and bench/results.csv, then the kernel benchmarks (Google Benchmark)
+REPEAT ?= 5
+bench: build
+	$(BUILD)/bench/granboltz_bench --repeat $(REPEAT) --csv bench/results.csv
+	$(BUILD)/bench/granboltz_kernels --benchmark_repetitions=$(REPEAT) --benchmark_report_aggregates_only=true
+
 ## make reproduce: every table and figure at reduced size (config/quick.yaml)
 reproduce: deps build
 	snakemake --snakefile workflow/Snakefile --configfile $(PROFILE) --cores $(JOBS) --keep-going
