@@ -157,7 +157,10 @@ def test_report_contains_every_item_and_the_html_is_self_contained(run_script, t
     import sys
     import types
 
-    smk = types.SimpleNamespace(input=Input(inputs), output=types.SimpleNamespace(md=str(md), html=str(html)),
+    figures, tables = tmp_path / "paper" / "figures", tmp_path / "paper" / "tables"
+    smk = types.SimpleNamespace(input=Input(inputs),
+                                output=types.SimpleNamespace(md=str(md), html=str(html), figures=str(figures),
+                                                             tables=str(tables)),
                                 params=types.SimpleNamespace(manifest=items, profile="quick", config="seed: 1\n",
                                                              machine=machine),
                                 log=[str(tmp_path / "report.log")])
@@ -177,6 +180,9 @@ def test_report_contains_every_item_and_the_html_is_self_contained(run_script, t
     assert "## TV06" in text and "not in the workflow yet" not in text  # TV06 items registered here
     assert "agrees" in text and "granboltz 0.1.0 (commit `abc123`)" in text
     assert text.count("![") == 2 and page.count("data:image/png;base64,") == 2
+    # the report directory stands alone: every image it links to is copied beside it
+    for link in re.findall(r"!\[[^]]*\]\(([^)]+)\)", text):
+        assert (md.parent / link).is_file(), link
     # self-contained: no link, script, stylesheet or image from anywhere else
     assert not re.search(r"(src|href)\s*=\s*\"(?!data:|#)", page)
     assert "http://" not in page and "https://" not in page and "<script" not in page and "<link" not in page

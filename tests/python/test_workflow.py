@@ -27,7 +27,16 @@ ITEM_RULES = [
                              "fig7")],
     *[f"rw05_{x}" for x in ("table1", "table2", "table3_euler", "table4_strang", "table5_nosplit", "table6",
                             "effort", "steady_replicas", "fig1", "fig2", "fig3", "fig4")],
+    *[f"tv06_{x}" for x in ("fig1", "fig2", "fig3", "fig4", "fig5", "fig7", "fig8", "dsmc")],
 ]
+
+
+def expected_tv06_runs(config):
+    """TV06 runs: one per alpha (Fig. 3), per (M, alpha) (Figs. 4-5, Fig. 7, and both methods of
+    §4), and the one run of Fig. 8."""
+    t = config["tv06"]
+    grid = {name: len(t[name]["masses"]) * len(t[name]["alphas"]) for name in ("fig4", "fig7", "sec4")}
+    return len(t["fig3"]["alphas"]) + grid["fig4"] + grid["fig7"] + 1 + 2 * grid["sec4"]
 
 
 def expected_runs(config):
@@ -55,7 +64,8 @@ def test_dry_run_plans_every_job(profile):
     assert counts.pop("grw05_shard", 0) == sum(k * shards[ex] for ex, k in grw05.items() if shards[ex] > 1)
     assert counts.pop("grw05_merge", 0) == sum(k for ex, k in grw05.items() if shards[ex] > 1)
     assert counts.pop("rw05_run") == counts.pop("rw05_run_config") == rw05
-    assert counts.pop("table_tex") == 12  # 11 tables and the window table
+    assert counts.pop("tv06_run") == counts.pop("tv06_run_config") == expected_tv06_runs(config)
+    assert counts.pop("table_tex") == 16  # 11 tables and the window table; TV06 Figs. 3, 4, 7 and §4
     assert counts == {"all": 1, "report": 1, **{rule: 1 for rule in ITEM_RULES}}
 
 

@@ -1,4 +1,8 @@
-"""The report: LaTeX versions of the tables and paper/reproduction.{md,html}.
+"""The report: LaTeX versions of the tables and <report_dir>/reproduction.{md,html}.
+
+The report directory holds copies of the figures and tables it shows, so that it stands alone:
+the paper profile writes it to paper/ (committed: the published artifact), the quick profile to
+results/report/ (so that a quick run never overwrites the published report).
 
 Every table and figure registered with report_item() (common.smk) by the paper rule files is an
 input of rule report, with the runs and benchmark files behind it and the published numbers.
@@ -68,8 +72,10 @@ rule report:
         benchmarks=_unique(b for it in REPORT_ITEMS for b in it["benchmarks"]),
         runs=_unique(r for it in REPORT_ITEMS for r in it["runs"]),
     output:
-        md="paper/reproduction.md",
-        html="paper/reproduction.html",
+        md=f"{config['report_dir']}/reproduction.md",
+        html=f"{config['report_dir']}/reproduction.html",
+        figures=directory(f"{config['report_dir']}/figures"),
+        tables=directory(f"{config['report_dir']}/tables"),
     log:
         "logs/report.log",
     benchmark:

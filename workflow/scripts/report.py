@@ -1,4 +1,4 @@
-"""The reproduction report of every GRW05 and RW05 item (and the TV06 items registered later):
+"""The reproduction report of every GRW05, RW05 and TV06 item:
 paper/reproduction.md (for a code host) and paper/reproduction.html (self-contained: figures
 as base64 data URIs, inline CSS, no external reference), both rendered from one document
 (granboltz_report.build_document): published numbers and ours side by side with confidence
@@ -11,6 +11,8 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
 import csv  # noqa: E402
 import json  # noqa: E402
+import os  # noqa: E402
+import shutil  # noqa: E402
 
 import h5py  # noqa: E402
 
@@ -53,6 +55,14 @@ def read_image(path):
         return f.read()
 
 
-gc.write_text(gr.render_md(doc, image_prefix="../"), snakemake.output.md)
-gc.write_text(gr.render_html(doc, read_image, "Reproduction of GRW05 and RW05"), snakemake.output.html)
+# The report directory stands alone: copies of the figures (png, pdf) and tables (csv, tex).
+for directory, paths in ((snakemake.output.figures, inp.figures),
+                         (snakemake.output.tables, [*inp.tables, *inp.tex])):
+    os.makedirs(directory, exist_ok=True)
+    for path in paths:
+        for p in [path] + ([path[:-4] + ".pdf"] if path.endswith(".png") else []):
+            if os.path.exists(p):
+                shutil.copyfile(p, os.path.join(directory, os.path.basename(p)))
+gc.write_text(gr.render_md(doc, image_prefix=""), snakemake.output.md)
+gc.write_text(gr.render_html(doc, read_image, "Reproduction of GRW05, RW05 and TV06"), snakemake.output.html)
 print(f"{len(items)} items, {len(data['runs'])} runs, {len(doc)} blocks", file=sys.stderr)

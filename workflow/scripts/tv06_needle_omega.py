@@ -1,0 +1,69 @@
+"""TV06 Fig. 8 (§3.2): angular-velocity distribution of the needle at M = 0.1, alpha = 0.1
+(the paper: 5 000 000 collisions), black, with the best-fit Gaussian, red.
+
+Best fit: A exp(-w^2 / (2 s^2)) by unweighted least squares on the histogram density
+(scipy.optimize.curve_fit; amplitude and width free, as a fitted curve on a plot); dashed grey:
+the moment-matched normal density (variance of the histogram). Left linear, right logarithmic
+(the tails). The grey band is the 99.9 % confidence interval of the density over the N ensembles.
+The summary counts the bins whose interval excludes the fitted Gaussian (the deviations the
+paper calls 'apparent'; resolved when that count has binomial p < 0.001 against an exact curve)
+and gives the excess kurtosis.
+"""
+
+import sys
+
+sys.stderr = open(snakemake.log[0], "w", buffering=1)
+
+import numpy as np  # noqa: E402
+from scipy import stats  # noqa: E402
+
+import granboltz_common as gc  # noqa: E402
+import tv06_common as tv  # noqa: E402
+
+plt = gc.pyplot()
+(run,) = [tv.read_tv06(path) for path in snakemake.input.runs]
+h = run["omega"]
+if run["model"] != "needle" or h is None:
+    raise ValueError(f"{run['path']}: Fig. 8 needs a needle run with an omega histogram")
+g = tv.gaussian_fits(h)
+w, d, ci = g["centres"], h["density"], h["ci"]
+z = (d - g["fit"]) / np.where(ci > 0, ci / tv.LAMBDA_P, np.inf)
+rows = [{"omega": x, "density": y, "ci": c, "gaussian_fit": f, "gaussian_moments": m, "z_fit": zz}
+        for x, y, c, f, m, zz in zip(w, d, ci, g["fit"], g["moments"], z)]
+gc.write_csv(rows, list(rows[0]), snakemake.output.csv, digits=6)
+
+fig, axes = plt.subplots(1, 2, figsize=(6.4, 2.8))
+for ax in axes:
+    ax.fill_between(w, d - ci, d + ci, color="0.8", lw=0, label="99.9 % CI")
+    ax.plot(w, d, color="black", lw=0.9, label=f"simulation, {run['N'] * run['collisions']:,} collisions")
+    ax.plot(w, g["fit"], color="red", lw=0.9, label="best-fit Gaussian")
+    ax.plot(w, g["moments"], color="0.4", lw=0.8, dashes=(3, 2), label="Gaussian, same variance")
+    ax.set_xlabel(r"$\omega$")
+    ax.set_xlim(-1.05 * np.abs(w[h["counts"] > 0]).max(), 1.05 * np.abs(w[h["counts"] > 0]).max())
+axes[0].set_ylabel(r"$P(\omega)$")
+axes[1].set_yscale("log")
+axes[1].set_ylim(max(d[d > 0].min(), 1e-6) / 2, d.max() * 2)
+axes[1].legend(loc="lower center", fontsize=6)
+fig.tight_layout()
+gc.save_figure(fig, [snakemake.output.png, snakemake.output.pdf])
+
+sel = ci > 0
+out = int(np.sum(np.abs(z[sel]) > tv.LAMBDA_P))
+c = run["config"]
+p_bin = 1 - tv.t_coverage(run["N"])  # chance that a bin's interval misses an exact curve
+expected, p_value = p_bin * sel.sum(), float(stats.binom.sf(out - 1, int(sel.sum()), p_bin))
+resolved = "resolved" if p_value < 1e-3 else "not resolved"
+ours = (f"M = {run['M']:g}, α = {run['alpha']:g}, N = {run['N']} × {run['collisions']} = "
+        f"{run['N'] * run['collisions']:,} collisions (L = {c.get('length', 1):g}, a = {c.get('a', 1):g}): fitted "
+        f"Gaussian width s = {g['s_fit']:.4f}, moment-matched σ = {g['s_moments']:.4f}, excess kurtosis "
+        f"{g['excess_kurtosis']:+.3f} (0 for a Gaussian); the fitted Gaussian lies outside the 99.9 % CI at {out}/"
+        f"{int(sel.sum())} bins ({expected:.1f} expected if it were exact; binomial p = {p_value:.1e}, bins taken as "
+        f"independent): deviations {resolved} at this size (the paper: they become apparent for a light needle "
+        f"and strong inelasticity). "
+        f"Numbers: `{snakemake.output.csv}`")
+short = (f"deviations from the best-fit Gaussian {resolved}: outside the CI at {out}/{int(sel.sum())} bins; "
+         f"excess kurtosis {g['excess_kurtosis']:+.3f}")
+print(ours, file=sys.stderr)
+gc.write_json(gc.figure_summary(ours, short, s_fit=g["s_fit"], s_moments=g["s_moments"],
+                                excess_kurtosis=g["excess_kurtosis"], bins_outside=out, bins=int(sel.sum())),
+              snakemake.output.summary)
