@@ -25,15 +25,6 @@ dsmc:
   histogram: {shells: 16, radius: 6}
 )";
 
-void expect_identical(const std::string& a, const std::string& b) {
-  H5Reader ra(a), rb(b);
-  const auto names = ra.datasets();
-  ASSERT_EQ(names, rb.datasets());
-  ASSERT_GT(names.size(), 20u);
-  for (const auto& name : names) EXPECT_EQ(ra.read_bytes(name), rb.read_bytes(name)) << name;
-  EXPECT_EQ(ra.attr_string("/", "config"), rb.attr_string("/", "config"));
-}
-
 }  // namespace
 
 TEST(CommandLine, VersionAndValidateWork) {
@@ -48,20 +39,21 @@ TEST(CommandLine, OneAndTwoThreadsGiveIdenticalOutputForEveryScheme) {
   TempDir dir;
   const std::string cfg = dir.write("c.yaml", kHardSpheres);
   for (const char* scheme : {"nosplit", "euler", "strang"}) {
-    const std::string extra =
-        std::string(" --set dsmc.scheme=") + scheme + (scheme[0] == 'n' ? "" : " --set dsmc.steps=8");
+    const std::string extra = std::string(" --set dsmc.scheme=") + scheme +
+                              (scheme[0] == 'n' ? "" : " --set dsmc.steps=8");
     const std::string a = dir.file(std::string(scheme) + "1.h5");
     const std::string b = dir.file(std::string(scheme) + "2.h5");
     ASSERT_EQ(run_granboltz("run " + cfg + " -q --threads 1 -o " + a + extra).exit_code, 0);
     ASSERT_EQ(run_granboltz("run " + cfg + " -q --threads 2 -o " + b + extra).exit_code, 0);
-    expect_identical(a, b);
+    granboltz::test::expect_identical_outputs(a, b);
   }
 }
 
 TEST(CommandLine, OutputExplainsItself) {
   TempDir dir;
   const std::string out = dir.file("o.h5");
-  ASSERT_EQ(run_granboltz("run " + dir.write("c.yaml", kHardSpheres) + " -q -o " + out).exit_code, 0);
+  ASSERT_EQ(run_granboltz("run " + dir.write("c.yaml", kHardSpheres) + " -q -o " + out).exit_code,
+            0);
   H5Reader r(out);
   EXPECT_NE(r.attr_string("/", "config").find("lambda: 1"), std::string::npos);
   EXPECT_FALSE(r.attr_string("/", "version").empty());
@@ -96,11 +88,13 @@ TEST_P(BadInputs, FailWithAClearMessageAndLeaveNoOutput) {
 INSTANTIATE_TEST_SUITE_P(
     Config, BadInputs,
     ::testing::Values(
-        BadInput{"alpha zero", "--set dsmc.alpha=0", "dsmc.alpha = 0: must satisfy 0 < alpha <= 1", 2},
+        BadInput{"alpha zero", "--set dsmc.alpha=0", "dsmc.alpha = 0: must satisfy 0 < alpha <= 1",
+                 2},
         BadInput{"alpha above one", "--set dsmc.alpha=1.01", "dsmc.alpha = 1.01", 2},
         BadInput{"negative beta", "--set dsmc.beta=-1", "dsmc.beta = -1: must be >= 0", 2},
         BadInput{"lambda above one", "--set dsmc.kernel.lambda=1.5", "dsmc.kernel.lambda = 1.5", 2},
-        BadInput{"negative lambda", "--set dsmc.kernel.lambda=-0.1", "dsmc.kernel.lambda = -0.1", 2},
+        BadInput{"negative lambda", "--set dsmc.kernel.lambda=-0.1", "dsmc.kernel.lambda = -0.1",
+                 2},
         BadInput{"one particle", "--set dsmc.particles=1", "dsmc.particles = 1: must be >= 2", 2},
         BadInput{"unknown key", "--set dsmc.particels=5", "dsmc.particels: unknown key", 2},
         BadInput{"unknown top key", "--set sed=5", "sed: unknown key", 2},
@@ -129,7 +123,8 @@ INSTANTIATE_TEST_SUITE_P(
                  "needs kernel.lambda > 0", 2}),
     [](const auto& info) {
       std::string s = info.param.what;
-      for (auto& ch : s) if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+      for (auto& ch : s)
+        if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
       return s;
     });
 

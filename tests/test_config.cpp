@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "granboltz/config.hpp"
+#include "test_support.hpp"
 
 using namespace granboltz;
 
@@ -20,14 +21,6 @@ dsmc:
   observe_every: 0.25
 )";
 
-std::string error_of(const std::string& text, const std::vector<std::string>& sets = {}) {
-  try {
-    parse_config(text, "test.yaml", sets);
-  } catch (const ConfigError& e) {
-    return e.what();
-  }
-  return "";
-}
 }  // namespace
 
 TEST(Config, ReadsGRW05Example3WithDefaults) {
@@ -58,8 +51,7 @@ TEST(Config, PhysicsOnlyYamlLeavesOutThreadsAndShards) {
 TEST(Config, SetOverridesNestedKeysAndCreatesSections) {
   const Config c = parse_config(kExample3, "t",
                                 {"dsmc.particles=1e4", "dsmc.histogram.shells=8",
-                                 "dsmc.histogram.radius=4", "dsmc.scheme=strang",
-                                 "dsmc.steps=32"});
+                                 "dsmc.histogram.radius=4", "dsmc.scheme=strang", "dsmc.steps=32"});
   EXPECT_EQ(c.dsmc.particles, 10000u);
   EXPECT_EQ(c.dsmc.histogram.shells, 8u);
   EXPECT_EQ(c.dsmc.scheme, Scheme::kStrang);
@@ -69,8 +61,8 @@ TEST(Config, SetOverridesNestedKeysAndCreatesSections) {
 TEST(Config, ShardsPartitionTheEnsembles) {
   std::uint64_t covered = 0;
   for (int i = 0; i < 3; ++i) {
-    const Config c = parse_config(kExample3, "t",
-                                  {"shard.count=3", "shard.index=" + std::to_string(i)});
+    const Config c =
+        parse_config(kExample3, "t", {"shard.count=3", "shard.index=" + std::to_string(i)});
     EXPECT_EQ(c.first_ensemble(), covered);
     covered = c.last_ensemble();
   }
@@ -78,16 +70,21 @@ TEST(Config, ShardsPartitionTheEnsembles) {
 }
 
 TEST(Config, ErrorsNameTheKeyTheValueAndWhatIsAllowed) {
-  EXPECT_EQ(error_of(kExample3, {"dsmc.alpha=1.5"}),
+  EXPECT_EQ(test::config_error(kExample3, {"dsmc.alpha=1.5"}),
             "dsmc.alpha = 1.5: must satisfy 0 < alpha <= 1");
-  EXPECT_EQ(error_of(kExample3, {"dsmc.partcles=4"}).rfind("dsmc.partcles: unknown key", 0), 0u);
-  EXPECT_EQ(error_of(kExample3, {"dsmc.beta=.nan"}), "dsmc.beta = .nan: must be a finite number");
-  EXPECT_EQ(error_of(kExample3, {"dsmc.particles=12.5"}), "dsmc.particles = 12.5: not an integer");
-  EXPECT_EQ(error_of(kExample3, {"dsmc.scheme=rk4"}),
+  EXPECT_EQ(
+      test::config_error(kExample3, {"dsmc.partcles=4"}).rfind("dsmc.partcles: unknown key", 0),
+      0u);
+  EXPECT_EQ(test::config_error(kExample3, {"dsmc.beta=.nan"}),
+            "dsmc.beta = .nan: must be a finite number");
+  EXPECT_EQ(test::config_error(kExample3, {"dsmc.particles=12.5"}),
+            "dsmc.particles = 12.5: not an integer");
+  EXPECT_EQ(test::config_error(kExample3, {"dsmc.scheme=rk4"}),
             "dsmc.scheme = rk4: must be one of nosplit, euler, strang");
-  EXPECT_EQ(error_of(kExample3, {"dsmc.scheme=euler"}).rfind("dsmc.steps: missing", 0), 0u);
-  EXPECT_EQ(error_of("model: dsmc\nseed: 1\ndsmc: {particles: [1, 2]}\n"),
+  EXPECT_EQ(test::config_error(kExample3, {"dsmc.scheme=euler"}).rfind("dsmc.steps: missing", 0),
+            0u);
+  EXPECT_EQ(test::config_error("model: dsmc\nseed: 1\ndsmc: {particles: [1, 2]}\n"),
             "dsmc.particles = [...]: must be an integer");
-  EXPECT_NE(error_of("model: dsmc\nseed: [1\n").find("YAML syntax error at line"),
+  EXPECT_NE(test::config_error("model: dsmc\nseed: [1\n").find("YAML syntax error at line"),
             std::string::npos);
 }

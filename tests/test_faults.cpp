@@ -1,12 +1,11 @@
 // Runs that survive faults: sharded runs merge into the unsharded result bit for bit, and a run
 // killed at a random moment resumes from its checkpoint to the same output as an uninterrupted
 // run.
+#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
-
-#include <fcntl.h>
 
 #include <chrono>
 #include <random>
@@ -58,18 +57,7 @@ needle:
   omega_histogram: {bins: 10, range: 10}
 )";
 
-/// Every dataset of a and b, byte for byte, and the stored config.
-void expect_identical(const std::string& a, const std::string& b) {
-  H5Reader ra(a), rb(b);
-  const auto names = ra.datasets();
-  ASSERT_EQ(names, rb.datasets());
-  for (const auto& name : names) EXPECT_EQ(ra.read_bytes(name), rb.read_bytes(name)) << name;
-  EXPECT_EQ(ra.attr_string("/", "config"), rb.attr_string("/", "config"));
-}
-
-void expect_ok(const granboltz::test::CommandResult& r) {
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-}
+void expect_ok(const granboltz::test::CommandResult& r) { ASSERT_EQ(r.exit_code, 0) << r.output; }
 
 }  // namespace
 
@@ -88,7 +76,7 @@ TEST(Sharding, MergedShardsEqualTheUnshardedRunInEveryDatasetForEveryModel) {
     }
     const std::string merged = dir.file("merged.h5");
     expect_ok(run_granboltz("merge " + shards + "-o " + merged));
-    expect_identical(whole, merged);
+    granboltz::test::expect_identical_outputs(whole, merged);
   }
 }
 
@@ -98,8 +86,10 @@ TEST(Sharding, MergeRefusesShardsThatDoNotMakeOneRun) {
   const std::string s0 = dir.file("s0.h5"), s1 = dir.file("s1.h5"), other = dir.file("o.h5");
   expect_ok(run_granboltz("run " + cfg + " -q --set shard.count=2 --set shard.index=0 -o " + s0));
   expect_ok(run_granboltz("run " + cfg + " -q --set shard.count=2 --set shard.index=1 -o " + s1));
-  expect_ok(run_granboltz("run " + cfg + " -q --set seed=12 --set shard.count=2 "
-                          "--set shard.index=1 -o " + other));
+  expect_ok(run_granboltz("run " + cfg +
+                          " -q --set seed=12 --set shard.count=2 "
+                          "--set shard.index=1 -o " +
+                          other));
   auto r = run_granboltz("merge " + s0 + " " + s0 + " -o " + dir.file("m.h5"));
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.output.find("overlapping shards"), std::string::npos) << r.output;
@@ -151,7 +141,8 @@ dsmc:
   const std::string reference = dir.file("reference.h5"), out = dir.file("out.h5");
   const auto t0 = std::chrono::steady_clock::now();
   expect_ok(run_granboltz("run " + cfg + " -q -o " + reference));
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   // Kill twice at random moments after a checkpoint was written (the first run's, then the
   // resumed run's own), then let the third attempt finish.
@@ -183,7 +174,7 @@ dsmc:
   const auto r = run_granboltz("run " + cfg + " -o " + out);
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("resuming from"), std::string::npos) << r.output;
-  expect_identical(reference, out);
+  granboltz::test::expect_identical_outputs(reference, out);
   // Nothing is left behind: no checkpoint, no temporary files of the killed runs.
   EXPECT_EQ(dir.entries(), 3u);  // c.yaml, reference.h5, out.h5
 }
@@ -243,6 +234,6 @@ dsmc:
     }
     const auto r = run_granboltz("run " + cfg + " -o " + out);
     ASSERT_EQ(r.exit_code, 0) << r.output;
-    expect_identical(reference, out);
+    granboltz::test::expect_identical_outputs(reference, out);
   }
 }

@@ -2,6 +2,7 @@
 // Helpers shared by the C++ tests: temporary directories, running the CLI, exact results for
 // Maxwell molecules, and confidence levels.
 #include <gsl/gsl_cdf.h>
+#include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -12,7 +13,9 @@
 #include <fstream>
 #include <string>
 
+#include "granboltz/config.hpp"
 #include "granboltz/dsmc_run.hpp"
+#include "granboltz/hdf5_io.hpp"
 #include "granboltz/observables.hpp"
 
 namespace granboltz::test {
@@ -63,6 +66,27 @@ struct CommandResult {
   int exit_code;
   std::string output;  ///< stdout and stderr together
 };
+
+/// The message of the ConfigError that parsing `text` with `sets` raises ("" if it parses).
+inline std::string config_error(const std::string& text,
+                                const std::vector<std::string>& sets = {}) {
+  try {
+    parse_config(text, "test.yaml", sets);
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+/// Two output files agree in every dataset, byte for byte, and in the stored config.
+inline void expect_identical_outputs(const std::string& a, const std::string& b) {
+  H5Reader ra(a), rb(b);
+  const auto names = ra.datasets();
+  ASSERT_EQ(names, rb.datasets());
+  ASSERT_GT(names.size(), 5u);
+  for (const auto& name : names) EXPECT_EQ(ra.read_bytes(name), rb.read_bytes(name)) << name;
+  EXPECT_EQ(ra.attr_string("/", "config"), rb.attr_string("/", "config"));
+}
 
 /// Runs the granboltz binary with `args` (a shell-quoted string).
 inline CommandResult run_granboltz(const std::string& args) {

@@ -36,15 +36,6 @@ needle:
   omega_histogram: {bins: 12, range: 8}
 )";
 
-std::string error_of(const std::string& text, const std::vector<std::string>& sets) {
-  try {
-    parse_config(text, "test.yaml", sets);
-  } catch (const ConfigError& e) {
-    return e.what();
-  }
-  return "";
-}
-
 }  // namespace
 
 TEST(TV06Config, ReadsDefaultsAndRoundTrips) {
@@ -89,7 +80,7 @@ TEST(TV06Config, BadValuesNameTheKeyTheValueAndWhatIsAllowed) {
       {kNeedle, "needle.omega_histogram.range=0", "needle.omega_histogram.range = 0: must be > 0"},
   };
   for (const Case& c : cases) {
-    const std::string e = error_of(c.text, {c.set});
+    const std::string e = test::config_error(c.text, {c.set});
     EXPECT_NE(e.find(c.expected), std::string::npos) << c.set << " gave: " << e;
   }
 }
