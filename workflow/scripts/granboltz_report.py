@@ -479,7 +479,14 @@ def compare_tails(name, ours, published, extra=(), **_):
                           "f_k in eq. (38) is taken as the shell fraction of eq. (37) divided by the shell volume "
                           "(column 'f_k' = density), an estimate of f∞(r_k) as eq. (38) models it. The local slope "
                           "decreases with x towards the asymptotic exponent, so b depends on the window."]))
-    short = f"b within {max(dev):.3f} of theory on the configured window"
+    window = ours[0].get("fit_window", "the configured window")
+    bs = ", ".join(f"{num(fl(r['b']), 3)}" for r in ours)
+    th = ", ".join(f"{fl(r['theory_b']):g}" for r in ours)
+    if max(dev) <= 0.03:
+        short = f"agrees: b = {bs} on {window}, within 0.03 of theory ({th})"
+    else:
+        short = (f"differs: b = {bs} on {window} against theory {th} (max deviation {max(dev):.3f}); "
+                 "b moves with the fit window (see the window table)")
     return blocks, short
 
 
