@@ -1,10 +1,10 @@
 // Google Benchmark of the physics kernels and samplers (make bench runs it after the harness).
 #include <benchmark/benchmark.h>
 
-#include "granboltz/collision.hpp"
-#include "granboltz/heating.hpp"
-#include "granboltz/rng.hpp"
-#include "granboltz/samplers.hpp"
+#include "granboltz/physics/collision.hpp"
+#include "granboltz/physics/heating.hpp"
+#include "granboltz/random/rng.hpp"
+#include "granboltz/random/samplers.hpp"
 
 using namespace granboltz;
 

@@ -14,12 +14,12 @@
 #include <string>
 #include <vector>
 
-#include "granboltz/config.hpp"
-#include "granboltz/dsmc_ensemble.hpp"
-#include "granboltz/dsmc_run.hpp"
-#include "granboltz/rng.hpp"
-#include "granboltz/tv06_intruder.hpp"
-#include "granboltz/tv06_needle.hpp"
+#include "granboltz/config/config.hpp"
+#include "granboltz/dsmc/ensemble.hpp"
+#include "granboltz/dsmc/run.hpp"
+#include "granboltz/random/rng.hpp"
+#include "granboltz/tv06/intruder.hpp"
+#include "granboltz/tv06/needle.hpp"
 
 using namespace granboltz;
 using Clock = std::chrono::steady_clock;

@@ -7,9 +7,9 @@
 #include <new>
 #include <unistd.h>
 
-#include "granboltz/config.hpp"
-#include "granboltz/merge.hpp"
-#include "granboltz/run.hpp"
+#include "granboltz/config/config.hpp"
+#include "granboltz/io/merge.hpp"
+#include "granboltz/driver/run.hpp"
 #include "granboltz/version.hpp"
 
 namespace {

@@ -4,10 +4,10 @@
 
 #include <cfloat>
 
-#include "granboltz/collision.hpp"
-#include "granboltz/heating.hpp"
-#include "granboltz/rng.hpp"
-#include "granboltz/samplers.hpp"
+#include "granboltz/physics/collision.hpp"
+#include "granboltz/physics/heating.hpp"
+#include "granboltz/random/rng.hpp"
+#include "granboltz/random/samplers.hpp"
 #include "test_support.hpp"
 
 using namespace granboltz;

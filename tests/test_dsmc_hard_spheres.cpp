@@ -10,7 +10,7 @@
 
 #include <cmath>
 
-#include "granboltz/dsmc_run.hpp"
+#include "granboltz/dsmc/run.hpp"
 #include "test_support.hpp"
 
 using namespace granboltz;

@@ -6,7 +6,7 @@
 #include <random>
 #include <vector>
 
-#include "granboltz/exact_sum.hpp"
+#include "granboltz/stats/exact_sum.hpp"
 
 using granboltz::ExactSum;
 

@@ -3,9 +3,9 @@
 
 #include <cmath>
 
-#include "granboltz/observables.hpp"
-#include "granboltz/rng.hpp"
-#include "granboltz/samplers.hpp"
+#include "granboltz/dsmc/observables.hpp"
+#include "granboltz/random/rng.hpp"
+#include "granboltz/random/samplers.hpp"
 
 using namespace granboltz;
 

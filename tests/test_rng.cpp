@@ -4,7 +4,7 @@
 #include <cmath>
 #include <set>
 
-#include "granboltz/rng.hpp"
+#include "granboltz/random/rng.hpp"
 
 using namespace granboltz;
 

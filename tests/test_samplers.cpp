@@ -6,8 +6,8 @@
 #include <functional>
 #include <vector>
 
-#include "granboltz/rng.hpp"
-#include "granboltz/samplers.hpp"
+#include "granboltz/random/rng.hpp"
+#include "granboltz/random/samplers.hpp"
 #include "test_support.hpp"
 
 using namespace granboltz;

@@ -13,10 +13,10 @@
 #include <fstream>
 #include <string>
 
-#include "granboltz/config.hpp"
-#include "granboltz/dsmc_run.hpp"
-#include "granboltz/hdf5_io.hpp"
-#include "granboltz/observables.hpp"
+#include "granboltz/config/config.hpp"
+#include "granboltz/dsmc/run.hpp"
+#include "granboltz/io/hdf5_io.hpp"
+#include "granboltz/dsmc/observables.hpp"
 
 namespace granboltz::test {
 

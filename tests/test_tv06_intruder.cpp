@@ -7,8 +7,8 @@
 #include <limits>
 #include <vector>
 
-#include "granboltz/rng.hpp"
-#include "granboltz/tv06_intruder.hpp"
+#include "granboltz/random/rng.hpp"
+#include "granboltz/tv06/intruder.hpp"
 #include "test_tv06_support.hpp"
 
 using namespace granboltz;

@@ -8,8 +8,8 @@
 #include <limits>
 #include <vector>
 
-#include "granboltz/rng.hpp"
-#include "granboltz/tv06_needle.hpp"
+#include "granboltz/random/rng.hpp"
+#include "granboltz/tv06/needle.hpp"
 #include "test_tv06_support.hpp"
 
 using namespace granboltz;

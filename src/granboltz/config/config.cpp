@@ -1,0 +1,107 @@
+// Top level of a run config: model, seed, ensembles, execution keys; dispatch to the sections.
+#include "granboltz/config/config.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace granboltz {
+
+std::string model_name(Model m) {
+  switch (m) {
+    case Model::kDsmc: return "dsmc";
+    case Model::kIntruder: return "intruder";
+    case Model::kNeedle: return "needle";
+  }
+  return "?";
+}
+
+Config parse_config(const std::string& yaml_text, const std::string& origin,
+                    const std::vector<std::string>& overrides) {
+  const YAML::Node root = load_yaml_with_overrides(yaml_text, origin, overrides);
+  const Section s(root, "");
+  Config c;
+  const std::string model = s.choice("model", {"dsmc", "intruder", "needle"});
+  c.model = model == "intruder" ? Model::kIntruder
+            : model == "needle" ? Model::kNeedle : Model::kDsmc;
+  c.seed = s.integer("seed");
+  c.ensembles = s.integer("ensembles", 1);
+  s.check(c.ensembles >= 1, "ensembles", static_cast<double>(c.ensembles), "must be >= 1");
+  const std::uint64_t threads = s.integer("threads", 0);
+  s.check(threads <= 1024, "threads", static_cast<double>(threads),
+          "must satisfy 0 <= threads <= 1024 (0: all cores)");
+  c.threads = static_cast<unsigned>(threads);
+
+  if (s.has("shard")) {
+    const Section sh = s.sub("shard");
+    c.shard.count = sh.integer("count");
+    sh.check(c.shard.count >= 1 && c.shard.count <= c.ensembles, "count",
+             static_cast<double>(c.shard.count), "must satisfy 1 <= count <= ensembles");
+    c.shard.index = sh.integer("index");
+    sh.check(c.shard.index < c.shard.count, "index", static_cast<double>(c.shard.index),
+             "must satisfy 0 <= index < shard.count");
+    sh.finish({"index", "count"});
+  }
+  if (s.has("checkpoint")) {
+    const Section cp = s.sub("checkpoint");
+    c.checkpoint.every_seconds = cp.real("every_seconds");
+    cp.check(c.checkpoint.every_seconds >= 0, "every_seconds", c.checkpoint.every_seconds,
+             "must be >= 0 (0: no checkpoints)");
+    cp.finish({"every_seconds"});
+  }
+
+  const std::string section = model;
+  for (const char* other : {"dsmc", "intruder", "needle"})
+    if (section != other && s.has(other))
+      throw ConfigError(std::string(other) + ": section given but model is " + model);
+  if (!s.has(section)) throw ConfigError(section + ": missing (required for model " + model + ")");
+  switch (c.model) {
+    case Model::kDsmc: c.dsmc = read_dsmc(s.sub("dsmc")); break;
+    case Model::kIntruder: c.intruder = read_intruder(s.sub("intruder")); break;
+    case Model::kNeedle: c.needle = read_needle(s.sub("needle")); break;
+  }
+  s.finish({"model", "seed", "ensembles", "threads", "shard", "checkpoint", section});
+  return c;
+}
+
+Config load_config(const std::string& path, const std::vector<std::string>& overrides) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw ConfigError(path + ": is a directory, not a config file");
+  std::ifstream in(path);
+  if (!in) throw ConfigError(path + ": cannot open config file");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  if (in.bad()) throw ConfigError(path + ": cannot read config file");
+  return parse_config(ss.str(), path, overrides);
+}
+
+std::string Config::to_yaml(bool physics_only) const {
+  YAML::Emitter out;
+  out << YAML::BeginMap;
+  out << YAML::Key << "model" << YAML::Value << model_name(model);
+  out << YAML::Key << "seed" << YAML::Value << seed;
+  out << YAML::Key << "ensembles" << YAML::Value << ensembles;
+  if (!physics_only) {
+    out << YAML::Key << "threads" << YAML::Value << threads;
+    if (shard.count > 1)
+      out << YAML::Key << "shard" << YAML::Value << YAML::Flow << YAML::BeginMap
+          << YAML::Key << "index" << YAML::Value << shard.index
+          << YAML::Key << "count" << YAML::Value << shard.count << YAML::EndMap;
+    if (checkpoint.every_seconds > 0)
+      out << YAML::Key << "checkpoint" << YAML::Value << YAML::Flow << YAML::BeginMap
+          << YAML::Key << "every_seconds" << YAML::Value << format_real(checkpoint.every_seconds)
+          << YAML::EndMap;
+  }
+  switch (model) {
+    case Model::kDsmc: emit_dsmc(out, dsmc); break;
+    case Model::kIntruder: emit_intruder(out, intruder); break;
+    case Model::kNeedle: emit_needle(out, needle); break;
+  }
+  out << YAML::EndMap;
+  return std::string(out.c_str()) + "\n";
+}
+
+}  // namespace granboltz

@@ -1,0 +1,147 @@
+// The `dsmc:` section: reading, validation and emission (schema: docs/config.md).
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+
+#include "granboltz/config/reader.hpp"
+#include "granboltz/dsmc/config.hpp"
+
+namespace granboltz {
+
+namespace {
+// Relative tolerance for "a time is a whole multiple of another".
+constexpr double kTimeTolerance = 1e-9;
+
+bool is_multiple(double t, double step) {
+  const double q = t / step;
+  return std::fabs(q - std::round(q)) <= kTimeTolerance * std::max(1.0, q);
+}
+}  // namespace
+
+const char* scheme_name(Scheme s) {
+  switch (s) {
+    case Scheme::kNoSplit: return "nosplit";
+    case Scheme::kEuler: return "euler";
+    case Scheme::kStrang: return "strang";
+  }
+  return "?";
+}
+
+std::uint64_t DsmcConfig::observations() const {
+  return static_cast<std::uint64_t>(std::llround(t_end / observe_every));
+}
+
+DsmcConfig read_dsmc(const Section& s) {
+  DsmcConfig c;
+  c.particles = s.integer("particles");
+  s.check(c.particles >= 2, "particles", static_cast<double>(c.particles), "must be >= 2");
+  const std::string scheme = s.choice("scheme", {"nosplit", "euler", "strang"}, "nosplit");
+  c.scheme = scheme == "euler" ? Scheme::kEuler
+             : scheme == "strang" ? Scheme::kStrang : Scheme::kNoSplit;
+
+  c.alpha = s.real("alpha");
+  s.check(c.alpha > 0 && c.alpha <= 1, "alpha", c.alpha, "must satisfy 0 < alpha <= 1");
+  c.beta = s.real("beta");
+  s.check(c.beta >= 0, "beta", c.beta, "must be >= 0 (0 is free cooling)");
+  c.kernel.gamma = s.real("gamma", 1.0);
+  s.check(c.kernel.gamma > 0, "gamma", c.kernel.gamma, "must be > 0");
+
+  const Section k = s.sub("kernel");
+  c.kernel.lambda = k.real("lambda");
+  k.check(c.kernel.lambda >= 0 && c.kernel.lambda <= 1, "lambda", c.kernel.lambda,
+          "must satisfy 0 <= lambda <= 1");
+  c.kernel.C = k.real("C");
+  k.check(c.kernel.C > 0, "C", c.kernel.C, "must be > 0");
+  k.finish({"lambda", "C"});
+
+  const Section init = s.sub("initial");
+  c.initial_temperature = init.real("temperature", 1.0);
+  init.check(c.initial_temperature > 0, "temperature", c.initial_temperature, "must be > 0");
+  init.finish({"temperature"});
+
+  c.t_end = s.real("t_end");
+  s.check(c.t_end > 0, "t_end", c.t_end, "must be > 0");
+  c.observe_every = s.real("observe_every", c.t_end);
+  s.check(c.observe_every > 0 && c.observe_every <= c.t_end, "observe_every", c.observe_every,
+          "must satisfy 0 < observe_every <= t_end");
+  s.check(is_multiple(c.t_end, c.observe_every), "observe_every", c.observe_every,
+          "t_end = " + format_real(c.t_end) + " must be a whole multiple of it");
+  s.check(c.t_end / c.observe_every < 1e7 + 0.5 && c.observations() <= 10'000'000,
+          "observe_every", c.observe_every,
+          "gives more than 10^7 observation times");
+
+  if (c.scheme == Scheme::kNoSplit) {
+    c.steps = s.integer("steps", 0);
+  } else {
+    if (!s.has("steps"))
+      throw ConfigError(s.name("steps") + ": missing (required by scheme " + scheme +
+                        "; the time step is t_end / steps)");
+    c.steps = s.integer("steps");
+    s.check(c.steps >= 1, "steps", static_cast<double>(c.steps), "must be >= 1");
+    s.check(is_multiple(c.observe_every, c.time_step()), "observe_every", c.observe_every,
+            "must be a whole multiple of the time step t_end/steps = " +
+                format_real(c.time_step()));
+  }
+
+  if (s.has("histogram")) {
+    const Section h = s.sub("histogram");
+    c.histogram.shells = h.integer("shells");
+    h.check(c.histogram.shells >= 1 && c.histogram.shells <= 1'000'000, "shells",
+            static_cast<double>(c.histogram.shells), "must satisfy 1 <= shells <= 10^6");
+    c.histogram.radius = h.real("radius");
+    h.check(c.histogram.radius > 0, "radius", c.histogram.radius, "must be > 0");
+    h.finish({"shells", "radius"});
+  }
+
+  c.majorant = s.choice("majorant", {"global", "pairwise"}, "global") == "pairwise"
+                   ? MajorantKind::kPairwise : MajorantKind::kGlobal;
+  if (c.majorant == MajorantKind::kPairwise && c.kernel.lambda == 0)
+    throw ConfigError(s.name("majorant") + " = pairwise: needs kernel.lambda > 0 (for Maxwell "
+                      "molecules every pair has the same rate and the global majorant is exact)");
+  if (c.majorant == MajorantKind::kPairwise && c.scheme == Scheme::kNoSplit && c.beta > 0)
+    throw ConfigError(s.name("majorant") + " = pairwise: not exact for scheme nosplit with beta > 0 "
+                      "(the kicks between events break the pairwise bound); use it with beta = 0 "
+                      "or with scheme euler or strang, or use majorant: global");
+  c.majorant_update = s.choice("majorant_update", {"paper", "strict"}, "paper") == "strict"
+                          ? MajorantUpdate::kStrict : MajorantUpdate::kPaper;
+  if (s.has("steady_from")) {
+    c.steady = true;
+    c.steady_from = s.real("steady_from");
+    s.check(c.steady_from >= 0 && c.steady_from < c.t_end, "steady_from", c.steady_from,
+            "must satisfy 0 <= steady_from < t_end");
+  }
+  s.finish({"particles", "scheme", "steps", "alpha", "beta", "gamma", "kernel", "initial",
+            "t_end", "observe_every", "histogram", "majorant", "majorant_update", "steady_from"});
+  return c;
+}
+
+void emit_dsmc(YAML::Emitter& out, const DsmcConfig& c) {
+  out << YAML::Key << "dsmc" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "particles" << YAML::Value << c.particles;
+  out << YAML::Key << "scheme" << YAML::Value << scheme_name(c.scheme);
+  if (c.scheme != Scheme::kNoSplit) out << YAML::Key << "steps" << YAML::Value << c.steps;
+  out << YAML::Key << "alpha" << YAML::Value << format_real(c.alpha);
+  out << YAML::Key << "beta" << YAML::Value << format_real(c.beta);
+  out << YAML::Key << "gamma" << YAML::Value << format_real(c.kernel.gamma);
+  out << YAML::Key << "kernel" << YAML::Value << YAML::Flow << YAML::BeginMap
+      << YAML::Key << "lambda" << YAML::Value << format_real(c.kernel.lambda)
+      << YAML::Key << "C" << YAML::Value << format_real(c.kernel.C) << YAML::EndMap;
+  out << YAML::Key << "initial" << YAML::Value << YAML::Flow << YAML::BeginMap
+      << YAML::Key << "temperature" << YAML::Value << format_real(c.initial_temperature)
+      << YAML::EndMap;
+  out << YAML::Key << "t_end" << YAML::Value << format_real(c.t_end);
+  out << YAML::Key << "observe_every" << YAML::Value << format_real(c.observe_every);
+  if (c.histogram.shells > 0)
+    out << YAML::Key << "histogram" << YAML::Value << YAML::Flow << YAML::BeginMap
+        << YAML::Key << "shells" << YAML::Value << c.histogram.shells
+        << YAML::Key << "radius" << YAML::Value << format_real(c.histogram.radius)
+        << YAML::EndMap;
+  out << YAML::Key << "majorant" << YAML::Value
+      << (c.majorant == MajorantKind::kPairwise ? "pairwise" : "global");
+  out << YAML::Key << "majorant_update" << YAML::Value
+      << (c.majorant_update == MajorantUpdate::kStrict ? "strict" : "paper");
+  if (c.steady) out << YAML::Key << "steady_from" << YAML::Value << format_real(c.steady_from);
+  out << YAML::EndMap;
+}
+
+}  // namespace granboltz

@@ -1,0 +1,130 @@
+#include "granboltz/driver/ensemble_driver.hpp"
+
+#include <chrono>
+#include <condition_variable>
+#include <cstdio>
+#include <algorithm>
+#include <exception>
+#include <memory>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace granboltz {
+
+namespace {
+constexpr auto kFirstReport = std::chrono::seconds(3);
+constexpr auto kReportEvery = std::chrono::seconds(10);
+
+std::string format_seconds(double s) {
+  char buf[32];
+  if (s < 120) std::snprintf(buf, sizeof buf, "%.0f s", s);
+  else if (s < 7200) std::snprintf(buf, sizeof buf, "%.1f min", s / 60);
+  else std::snprintf(buf, sizeof buf, "%.1f h", s / 3600);
+  return buf;
+}
+}  // namespace
+
+unsigned resolve_threads(unsigned threads, std::uint64_t work_items) {
+  unsigned t = threads ? threads : std::max(1u, std::thread::hardware_concurrency());
+  if (work_items < t) t = static_cast<unsigned>(std::max<std::uint64_t>(1, work_items));
+  return t;
+}
+
+void for_each_ensemble(const std::vector<std::uint64_t>& ensembles, const DriverOptions& options,
+                       const std::function<void(std::uint64_t, ProgressSlot&)>& body) {
+  const std::uint64_t total = ensembles.size();
+  if (total == 0) return;
+  const unsigned nthreads = resolve_threads(options.threads, total);
+  std::atomic<std::uint64_t> next{0};
+  std::atomic<std::uint64_t> done{0};
+  std::atomic<bool> stop{false};
+  std::exception_ptr error;
+  std::mutex mutex;
+  std::condition_variable finished;
+  unsigned running = nthreads;
+  auto slots = std::make_unique<ProgressSlot[]>(nthreads);
+
+  auto worker = [&](unsigned w) {
+    for (;;) {
+      const std::uint64_t k = next.fetch_add(1);
+      if (k >= total || stop.load()) break;
+      slots[w].store(0.0);
+      try {
+        body(ensembles[k], slots[w]);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (!error) error = std::current_exception();
+        stop = true;
+        break;
+      }
+      slots[w].store(0.0);
+      done.fetch_add(1);
+    }
+    std::lock_guard<std::mutex> lock(mutex);
+    --running;
+    finished.notify_all();
+  };
+
+  std::vector<std::thread> pool;
+  for (unsigned w = 0; w < nthreads; ++w) pool.emplace_back(worker, w);
+
+  const auto start = std::chrono::steady_clock::now();
+  auto next_report = start + kFirstReport;
+  const bool ticking = options.tick && options.checkpoint_every > 0;
+  const auto tick_every = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+      std::chrono::duration<double>(ticking ? options.checkpoint_every : 3600.0));
+  auto next_tick = start + tick_every;
+  bool reported = false;
+  {
+    std::unique_lock<std::mutex> lock(mutex);
+    while (running > 0) {
+      const auto wake = ticking ? std::min(next_report, next_tick) : next_report;
+      if (finished.wait_until(lock, wake, [&] { return running == 0; })) break;
+      if (ticking && std::chrono::steady_clock::now() >= next_tick) {
+        lock.unlock();
+        std::exception_ptr tick_error;
+        try {
+          options.tick();  // takes the caller's lock on its record
+        } catch (...) {
+          tick_error = std::current_exception();
+        }
+        lock.lock();
+        if (tick_error) {
+          if (!error) error = tick_error;
+          stop = true;
+        }
+        next_tick = std::chrono::steady_clock::now() + tick_every;
+        continue;
+      }
+      if (!options.progress) {
+        next_report += kReportEvery;
+        continue;
+      }
+      double fraction = static_cast<double>(done.load());
+      for (unsigned w = 0; w < nthreads; ++w) fraction += slots[w].load();
+      fraction /= static_cast<double>(total);
+      const double elapsed =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      const std::string eta =
+          fraction > 0 ? format_seconds(elapsed * (1 - fraction) / fraction) : "?";
+      std::fprintf(stderr, "[granboltz] %s: %llu/%llu ensembles, %.1f%%, elapsed %s, eta %s\n",
+                   options.label.c_str(), static_cast<unsigned long long>(done.load()),
+                   static_cast<unsigned long long>(total), 100 * fraction,
+                   format_seconds(elapsed).c_str(), eta.c_str());
+      reported = true;
+      next_report += kReportEvery;
+    }
+  }
+  for (auto& t : pool) t.join();
+  if (error) std::rethrow_exception(error);
+  if (reported && options.progress) {
+    const double elapsed =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::fprintf(stderr, "[granboltz] %s: done, %llu ensembles in %s on %u threads\n",
+                 options.label.c_str(), static_cast<unsigned long long>(total),
+                 format_seconds(elapsed).c_str(), nthreads);
+  }
+}
+
+}  // namespace granboltz

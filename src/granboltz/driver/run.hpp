@@ -1,0 +1,22 @@
+#pragma once
+// Runs one config of any model and writes its self-describing HDF5 output.
+#include <cstdint>
+#include <string>
+
+#include "granboltz/config/config.hpp"
+#include "granboltz/driver/ensemble_driver.hpp"
+
+namespace granboltz {
+
+/// Bytes the run will need at its peak on `threads` threads (particle systems and accumulators).
+std::uint64_t estimate_memory(const Config& config, unsigned threads);
+
+/// Runs the config and writes `path` atomically (temporary name, renamed when complete).
+/// `command` is recorded as provenance. Throws ConfigError for a run that cannot fit in memory.
+void run_to_file(const Config& config, const std::string& path, const DriverOptions& options,
+                 const std::string& command);
+
+/// The temporary output file being written, for removal by a signal handler ("" if none).
+const char* current_temporary_output();
+
+}  // namespace granboltz

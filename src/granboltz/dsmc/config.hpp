@@ -1,0 +1,52 @@
+#pragma once
+// The `dsmc:` section of a run config: GRW05 / RW05 parameters.
+#include <cstdint>
+#include <string>
+
+#include "granboltz/physics/kernel.hpp"
+
+namespace YAML {
+class Emitter;
+}
+
+namespace granboltz {
+
+class Section;
+
+enum class Scheme { kNoSplit, kEuler, kStrang };
+/// global: U_max = 2 max|v - V| for all pairs (the papers); pairwise: B_ij <= C(|v_i-V|+|v_j-V|)^lambda.
+enum class MajorantKind { kGlobal, kPairwise };
+/// paper: U_max := max(U_max, |v_i - V|, |v_j - V|) (GRW05 2.7/2.10, RW05 eq. 21), the
+/// truncated kernel of RW05 eq. (19); strict: U_max := max(U_max, 2|v_i - V|, 2|v_j - V|).
+enum class MajorantUpdate { kPaper, kStrict };
+
+struct HistogramSpec {
+  std::uint64_t shells = 0;  ///< K shells of width R/K plus one overflow shell; 0: no histogram
+  double radius = 0.0;       ///< R
+};
+
+struct DsmcConfig {
+  std::uint64_t particles = 0;  ///< n
+  Scheme scheme = Scheme::kNoSplit;
+  std::uint64_t steps = 0;  ///< K: time steps of the splitting schemes, dt = t_end / K
+  double alpha = 1.0;       ///< restitution coefficient, 0 < alpha <= 1
+  double beta = 0.0;        ///< heating strength (white noise), >= 0
+  VhsKernel kernel;         ///< lambda, C, and gamma (the prefactor of the collision term)
+  double initial_temperature = 1.0;
+  double t_end = 0.0;
+  double observe_every = 0.0;  ///< observations at m * observe_every, m = 0..t_end/observe_every
+  HistogramSpec histogram;
+  MajorantKind majorant = MajorantKind::kGlobal;
+  MajorantUpdate majorant_update = MajorantUpdate::kPaper;
+  bool steady = false;      ///< time averages over the observations with t > steady_from
+  double steady_from = 0.0;
+
+  std::uint64_t observations() const;  ///< M: observation times are t_m, m = 0..M
+  double time_step() const { return t_end / static_cast<double>(steps); }
+};
+
+DsmcConfig read_dsmc(const Section& s);
+void emit_dsmc(YAML::Emitter& out, const DsmcConfig& c);
+const char* scheme_name(Scheme s);
+
+}  // namespace granboltz

@@ -1,0 +1,483 @@
+#include "granboltz/dsmc/ensemble.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "granboltz/physics/collision.hpp"
+#include "granboltz/physics/heating.hpp"
+#include "granboltz/random/samplers.hpp"
+
+namespace granboltz {
+
+namespace {
+// Progress is published every this many events: cheap, and frequent enough for a human.
+constexpr std::uint64_t kProgressMask = (1u << 20) - 1;
+// A requested pause is noticed within this many events (well under a millisecond).
+constexpr std::uint64_t kPauseMask = (1u << 14) - 1;
+
+// The lambda cases with a loop of their own: Maxwell molecules, hard spheres, lambda = 1/2, other.
+constexpr int kMaxwell = 0, kHardSpheres = 1, kHalf = 2, kGeneral = 3;
+int lambda_case(double lambda) {
+  return lambda == 0.0 ? kMaxwell : lambda == 1.0 ? kHardSpheres : lambda == 0.5 ? kHalf : kGeneral;
+}
+}  // namespace
+
+DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, std::uint64_t seed, std::uint64_t ensemble,
+                           ProgressSlot* progress)
+    : c_(config),
+      p_(config.particles),
+      adapt_factor2_(config.majorant_update == MajorantUpdate::kStrict ? 4.0 : 1.0),
+      heated_(config.beta > 0.0),
+      events_(make_stream(seed, ensemble, Consumer::kEvents)),
+      pairs_(make_stream(seed, ensemble, Consumer::kPairs)),
+      sweep_(make_stream(seed, ensemble, Consumer::kSweep)),
+      pairwise_(config.majorant == MajorantKind::kPairwise),
+      progress_(progress) {
+  Engine init = make_stream(seed, ensemble, Consumer::kInitial);
+  const double sd = std::sqrt(c_.initial_temperature);
+  Vec3 sum;
+  for (auto& q : p_) {
+    q.v = sd * normal3(init);
+    q.t = 0.0;
+    sum += q.v;
+  }
+  v0_ = (1.0 / static_cast<double>(p_.size())) * sum;
+  double r2 = 0.0;
+  for (const auto& q : p_) r2 = std::max(r2, norm2(q.v - v0_));
+  set_majorant(2.0 * std::sqrt(r2));
+  if (pairwise_) {
+    w_.resize(p_.size());
+    reweigh_all();
+  }
+  for (auto& pair : ring_) pair = draw_pair(pairs_);
+}
+
+std::uint64_t DsmcEnsemble::random_draws() const {
+  return events_.draws() + pairs_.draws() + sweep_.draws();
+}
+
+// ---- Global majorant (GRW05 §4, RW05 §3.4) ----
+
+void DsmcEnsemble::set_majorant(double u_max) {
+  u_max_ = u_max;
+  u_max2_ = u_max * u_max;
+  if (!pairwise_)
+    inv_rate_ = 1.0 / c_.kernel.majorant_rate(static_cast<double>(p_.size()), u_max_);
+}
+
+void DsmcEnsemble::adapt_majorant(const Particle& a) {
+  // RW05 eq. (21) with the paper's factor 1, or the strict bound 2|v - V| >= |v - w|.
+  const double r2 = adapt_factor2_ * norm2(a.v - v0_);
+  if (r2 > u_max2_) set_majorant(std::sqrt(r2));
+}
+
+void DsmcEnsemble::adapt_majorant_all() {
+  if (c_.kernel.lambda == 0.0) return;  // U_max plays no role for Maxwell molecules
+  if (pairwise_) return reweigh_all();
+  for (const auto& q : p_) adapt_majorant(q);
+}
+
+template <int kLambda>
+inline bool DsmcEnsemble::accept(double u2, Engine& events) {
+  // Accept with probability (|u|/U_max)^lambda, 1 when |u| >= U_max (RW05 eq. 19), comparing
+  // squares to avoid square roots.
+  const double r = uniform01(events);
+  if constexpr (kLambda == kHardSpheres) {
+    return r * r * u_max2_ < u2;
+  } else if constexpr (kLambda == kHalf) {
+    const double r2 = r * r;
+    return r2 * r2 * u_max2_ < u2;
+  } else {
+    return u2 >= u_max2_ || r < std::pow(u2 / u_max2_, 0.5 * c_.kernel.lambda);
+  }
+}
+
+// ---- Pairwise majorant: |u|^lambda <= (|v_i - V| + |v_j - V|)^lambda <= w_i + w_j ----
+
+template <int kLambda>
+inline double DsmcEnsemble::weight(const Vec3& v) const {
+  const double r2 = norm2(v - v0_);
+  if constexpr (kLambda == kHardSpheres) return std::sqrt(r2);
+  else if constexpr (kLambda == kHalf) return std::sqrt(std::sqrt(r2));
+  else return std::pow(r2, 0.5 * c_.kernel.lambda);
+}
+
+template <int kLambda>
+inline void DsmcEnsemble::reweigh(std::uint32_t i) {
+  const double w = weight<kLambda>(p_[i].v);
+  w_sum_ += w - w_[i];
+  w_[i] = w;
+  if (w > w_max_) w_max_ = w;
+}
+
+void DsmcEnsemble::reweigh_all() {
+  // An exact sum at every sweep keeps the running sum from drifting.
+  w_sum_ = w_max_ = 0.0;
+  for (std::size_t i = 0; i < p_.size(); ++i) {
+    w_[i] = std::pow(norm2(p_[i].v - v0_), 0.5 * c_.kernel.lambda);
+    w_sum_ += w_[i];
+    w_max_ = std::max(w_max_, w_[i]);
+  }
+  set_pairwise_rate();
+}
+
+void DsmcEnsemble::set_pairwise_rate() {
+  // pi_hat = (1/2n) sum_{i != j} 4 pi gamma C (w_i + w_j) = 4 pi gamma C (n - 1) W / n.
+  const double n = static_cast<double>(p_.size());
+  pairwise_rate_factor_ = 4.0 * M_PI * c_.kernel.gamma * c_.kernel.C * (n - 1.0) / n;
+  inv_rate_ = 1.0 / (pairwise_rate_factor_ * w_sum_);
+}
+
+template <int kLambda>
+inline bool DsmcEnsemble::accept_pairwise(double u2, double bound, Engine& events) {
+  // Accept with probability |u|^lambda / (w_i + w_j), the weights being those the waiting time
+  // was drawn with; 1 when a kick has carried |u|^lambda beyond them (the truncated kernel).
+  const double r = uniform01(events) * bound;
+  if constexpr (kLambda == kHardSpheres) {
+    return r * r < u2;
+  } else if constexpr (kLambda == kHalf) {
+    return r * r * r * r < u2;
+  } else {
+    return r < std::pow(u2, 0.5 * c_.kernel.lambda);
+  }
+}
+
+// ---- Candidate pairs ----
+
+DsmcEnsemble::Pair DsmcEnsemble::draw_pair(Engine& pairs) {
+  const auto n = static_cast<std::uint32_t>(p_.size());
+  Pair pair{0, 0, 0.0};
+  if (pairwise_) {
+    // A candidate i with the uniform that keeps it with probability w_i / w_max.
+    uniform_index_and_fraction(pairs, n, pair.i, pair.u);
+  } else {
+    // i uniform on {0..n-1}, j uniform on the others (GRW05 steps 2.3-2.4).
+    uniform_index_pair(pairs, n, n - 1, pair.i, pair.j);
+    if (pair.j >= pair.i) ++pair.j;
+  }
+  return pair;
+}
+
+inline DsmcEnsemble::Pair DsmcEnsemble::next_pair(Engine& pairs) {
+  const Pair pair = ring_[head_];
+  const Pair ahead = draw_pair(pairs);
+  ring_[head_] = ahead;
+  head_ = (head_ + 1) % kLookahead;
+  __builtin_prefetch(&p_[ahead.i], 1);
+  if (pairwise_) __builtin_prefetch(&w_[ahead.i]);
+  else __builtin_prefetch(&p_[ahead.j], 1);
+  return pair;
+}
+
+template <int kLambda, bool kPairwise>
+inline DsmcEnsemble::Pair DsmcEnsemble::select_pair(Engine& pairs, Engine& events) {
+  if constexpr (!kPairwise) {
+    return next_pair(pairs);
+  } else {
+    // The ordered pair (i, j) with probability proportional to w_i + w_j: i by weight (rejection
+    // against w_max), j uniform among the others; the order does not matter for a collision.
+    for (;;) {
+      Pair pair = next_pair(pairs);
+      if (pair.u * w_max_ < w_[pair.i]) {
+        pair.j = static_cast<std::uint32_t>(uniform_index(events, p_.size() - 1));
+        if (pair.j >= pair.i) ++pair.j;
+        return pair;
+      }
+    }
+  }
+}
+
+// ---- Schemes ----
+
+template <bool kHeated, int kLambda, bool kPairwise>
+bool DsmcEnsemble::run_nosplit(double s, const std::atomic<bool>* pause) {
+  const double alpha = c_.alpha, beta = c_.beta;
+  // Local copies of the streams: kept in registers instead of being stored after every draw.
+  Engine ev = events_, pairs = pairs_;
+  EventCounts counts = counts_;  // in registers during the loop
+  std::uint64_t events = 0;
+  bool reached = true;
+  for (;;) {
+    // A pause is taken between events, before the next waiting time is drawn.
+    if (pause && (events & kPauseMask) == 0 && pause->load(std::memory_order_relaxed)) {
+      reached = false;
+      break;
+    }
+    const double tau = exponential(ev) * inv_rate_;  // GRW05 step 2.1
+    if (t_ + tau >= s) break;
+    t_ += tau;
+    const Pair pair = select_pair<kLambda, kPairwise>(pairs, ev);
+    Particle& a = p_[pair.i];
+    Particle& b = p_[pair.j];
+    double bound = 0.0;
+    if constexpr (kPairwise) bound = w_[pair.i] + w_[pair.j];
+    if constexpr (kHeated) {  // step 2.5: kick both partners up to the event time
+      white_noise_kick2(a.v, t_ - a.t, b.v, t_ - b.t, beta, ev);
+      a.t = t_;
+      b.t = t_;
+      counts.kicks += 2;
+      if constexpr (kLambda != kMaxwell && !kPairwise) {  // step 2.7
+        adapt_majorant(a);
+        adapt_majorant(b);
+      }
+    }
+    bool real = true;
+    if constexpr (kPairwise) real = accept_pairwise<kLambda>(norm2(a.v - b.v), bound, ev);
+    else if constexpr (kLambda != kMaxwell) real = accept<kLambda>(norm2(a.v - b.v), ev);  // 2.8
+    if (real) {
+      collide(a.v, b.v, unit_vector(ev), alpha);  // step 2.9
+      ++counts.collisions;
+    } else {
+      ++counts.fictitious;
+    }
+    if constexpr (kPairwise) {
+      if (real || kHeated) {
+        reweigh<kLambda>(pair.i);
+        reweigh<kLambda>(pair.j);
+        inv_rate_ = 1.0 / (pairwise_rate_factor_ * w_sum_);
+      }
+    } else if constexpr (kLambda != kMaxwell) {
+      if (real) {  // step 2.10
+        adapt_majorant(a);
+        adapt_majorant(b);
+      }
+    }
+    if ((++events & kProgressMask) == 0) report(t_);
+  }
+  events_ = ev;
+  pairs_ = pairs;
+  counts_ = counts;
+  return reached;
+}
+
+void DsmcEnsemble::kick_all_to(double s) {
+  if (heated_) {
+    Engine sweep = sweep_;
+    const std::size_t n = p_.size();
+    for (std::size_t k = 0; k + 1 < n; k += 2) {
+      white_noise_kick2(p_[k].v, s - p_[k].t, p_[k + 1].v, s - p_[k + 1].t, c_.beta, sweep);
+      p_[k].t = p_[k + 1].t = s;
+    }
+    if (n % 2) {
+      p_[n - 1].v = white_noise_kick(p_[n - 1].v, c_.beta, s - p_[n - 1].t, sweep);
+      p_[n - 1].t = s;
+    }
+    sweep_ = sweep;
+    counts_.kicks += p_.size();
+    adapt_majorant_all();
+  } else {
+    for (auto& q : p_) q.t = s;
+  }
+}
+
+template <int kLambda, bool kPairwise>
+void DsmcEnsemble::collide_during(double h) {
+  const double alpha = c_.alpha;
+  Engine ev = events_, pairs = pairs_;
+  EventCounts counts = counts_;
+  double t = 0.0;
+  std::uint64_t events = 0;
+  for (;;) {
+    t += exponential(ev) * inv_rate_;
+    if (t >= h) break;
+    const Pair pair = select_pair<kLambda, kPairwise>(pairs, ev);
+    Particle& a = p_[pair.i];
+    Particle& b = p_[pair.j];
+    bool real = true;
+    if constexpr (kPairwise)
+      real = accept_pairwise<kLambda>(norm2(a.v - b.v), w_[pair.i] + w_[pair.j], ev);
+    else if constexpr (kLambda != kMaxwell)
+      real = accept<kLambda>(norm2(a.v - b.v), ev);
+    if (real) {
+      collide(a.v, b.v, unit_vector(ev), alpha);
+      ++counts.collisions;
+      if constexpr (kPairwise) {
+        reweigh<kLambda>(pair.i);
+        reweigh<kLambda>(pair.j);
+        inv_rate_ = 1.0 / (pairwise_rate_factor_ * w_sum_);
+      } else if constexpr (kLambda != kMaxwell) {
+        adapt_majorant(a);
+        adapt_majorant(b);
+      }
+    } else {
+      ++counts.fictitious;
+    }
+    if ((++events & kProgressMask) == 0) report(t_ + t);
+  }
+  events_ = ev;
+  pairs_ = pairs;
+  counts_ = counts;
+}
+
+void DsmcEnsemble::kick_all_by(double h) {
+  if (!heated_) return;
+  // Blocks: first the normals (the ziggurat is scalar), then a branch-free update that the
+  // compiler vectorises. Same numbers, in the same order, as kicking pair by pair.
+  Engine sweep = sweep_;
+  const std::size_t n = p_.size();
+  const double sd = std::sqrt(2.0 * c_.beta * h);
+  constexpr std::size_t kBlock = 256;  // particles per block (an even number)
+  alignas(64) double z[3 * kBlock];
+  for (std::size_t start = 0; start < n; start += kBlock) {
+    const std::size_t m = std::min(kBlock, n - start);
+    const std::size_t pairs = 3 * (m - m % 2) / 2;
+    for (std::size_t k = 0; k < pairs; ++k) normal_pair(sweep, z[2 * k], z[2 * k + 1]);
+    if (m % 2) {  // the last particle of an odd system: three normals of its own
+      const Vec3 x = normal3(sweep);
+      z[3 * m - 3] = x.x, z[3 * m - 2] = x.y, z[3 * m - 1] = x.z;
+    }
+    Particle* q = p_.data() + start;
+    for (std::size_t k = 0; k < m; ++k) {
+      q[k].v.x += sd * z[3 * k];
+      q[k].v.y += sd * z[3 * k + 1];
+      q[k].v.z += sd * z[3 * k + 2];
+    }
+  }
+  sweep_ = sweep;
+  counts_.kicks += p_.size();
+  adapt_majorant_all();
+}
+
+namespace {
+// Calls f.template operator()<kLambda, kPairwise>() for the runtime lambda case and majorant.
+template <class F>
+void dispatch(int lc, bool pairwise, F&& f) {
+  if (pairwise) {
+    switch (lc) {
+      case kHardSpheres: return f.template operator()<kHardSpheres, true>();
+      case kHalf: return f.template operator()<kHalf, true>();
+      default: return f.template operator()<kGeneral, true>();
+    }
+  }
+  switch (lc) {
+    case kMaxwell: return f.template operator()<kMaxwell, false>();
+    case kHardSpheres: return f.template operator()<kHardSpheres, false>();
+    case kHalf: return f.template operator()<kHalf, false>();
+    default: return f.template operator()<kGeneral, false>();
+  }
+}
+}  // namespace
+
+bool DsmcEnsemble::advance_to(double s, const std::atomic<bool>* pause) {
+  const int lc = lambda_case(c_.kernel.lambda);
+  if (c_.scheme == Scheme::kNoSplit) {
+    bool reached = true;
+    dispatch(lc, pairwise_, [&]<int L, bool P>() {
+      reached = heated_ ? run_nosplit<true, L, P>(s, pause) : run_nosplit<false, L, P>(s, pause);
+    });
+    if (!reached) return false;
+    kick_all_to(s);  // step 3.1 / Remark 2
+    t_ = s;
+  } else {
+    auto collide_for = [&](double h) {
+      dispatch(lc, pairwise_, [&]<int L, bool P>() { collide_during<L, P>(h); });
+    };
+    const double dt = c_.time_step();
+    // Steps are counted from t = 0 so that t_k = k dt carries no accumulated round-off.
+    auto k = static_cast<std::uint64_t>(std::llround(t_ / dt));
+    const auto k_end = static_cast<std::uint64_t>(std::llround(s / dt));
+    for (; k < k_end; ++k) {
+      if (pause && pause->load(std::memory_order_relaxed)) return false;  // between steps
+      if (c_.scheme == Scheme::kEuler) {  // RW05 Algorithm 1
+        collide_for(dt);
+        kick_all_by(dt);
+      } else {  // RW05 Algorithm 2
+        collide_for(0.5 * dt);
+        kick_all_by(dt);
+        collide_for(0.5 * dt);
+      }
+      t_ = static_cast<double>(k + 1) * dt;
+      report(t_);
+    }
+    t_ = s;
+  }
+  report(t_);
+  return true;
+}
+
+// ---- Checkpoints ----
+
+namespace {
+void write_engine(H5Writer& out, const std::string& path, const Engine& e) {
+  const auto& st = e.state();
+  out.write(path, std::vector<std::uint64_t>{st[0], st[1], st[2], st[3], e.draws()}, {5});
+}
+Engine read_engine(const H5Reader& in, const std::string& path) {
+  const auto v = in.read_uint64(path);
+  if (v.size() != 5) throw std::runtime_error(in.path() + ": malformed stream state " + path);
+  return Engine({v[0], v[1], v[2], v[3]}, v[4]);
+}
+}  // namespace
+
+void DsmcEnsemble::save(H5Writer& out, const std::string& g) const {
+  const std::size_t n = p_.size();
+  std::vector<double> particles(4 * n);
+  for (std::size_t i = 0; i < n; ++i) {
+    particles[4 * i] = p_[i].v.x;
+    particles[4 * i + 1] = p_[i].v.y;
+    particles[4 * i + 2] = p_[i].v.z;
+    particles[4 * i + 3] = p_[i].t;
+  }
+  out.write(g + "/particles", particles, {n, 4});
+  out.write(g + "/scalars", std::vector<double>{t_, v0_.x, v0_.y, v0_.z, u_max_, w_sum_, w_max_},
+            {7});
+  write_engine(out, g + "/events_stream", events_);
+  write_engine(out, g + "/pairs_stream", pairs_);
+  write_engine(out, g + "/sweep_stream", sweep_);
+  std::vector<std::uint64_t> ring_index;
+  std::vector<double> ring_u;
+  for (const Pair& pair : ring_) {
+    ring_index.push_back(pair.i);
+    ring_index.push_back(pair.j);
+    ring_u.push_back(pair.u);
+  }
+  out.write(g + "/ring_index", ring_index, {kLookahead, 2});
+  out.write(g + "/ring_u", ring_u, {kLookahead});
+  out.write(g + "/counters",
+            std::vector<std::uint64_t>{head_, counts_.collisions, counts_.fictitious, counts_.kicks},
+            {4});
+  if (pairwise_) out.write(g + "/weights", w_, {n});
+}
+
+DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, const H5Reader& in, const std::string& g,
+                           ProgressSlot* progress)
+    : c_(config),
+      p_(config.particles),
+      adapt_factor2_(config.majorant_update == MajorantUpdate::kStrict ? 4.0 : 1.0),
+      heated_(config.beta > 0.0),
+      events_(read_engine(in, g + "/events_stream")),
+      pairs_(read_engine(in, g + "/pairs_stream")),
+      sweep_(read_engine(in, g + "/sweep_stream")),
+      pairwise_(config.majorant == MajorantKind::kPairwise),
+      progress_(progress) {
+  const std::size_t n = p_.size();
+  const auto particles = in.read_double(g + "/particles");
+  const auto scalars = in.read_double(g + "/scalars");
+  const auto ring_index = in.read_uint64(g + "/ring_index");
+  const auto ring_u = in.read_double(g + "/ring_u");
+  const auto counters = in.read_uint64(g + "/counters");
+  if (particles.size() != 4 * n || scalars.size() != 7 || ring_index.size() != 2 * kLookahead ||
+      ring_u.size() != kLookahead || counters.size() != 4 || counters[0] >= kLookahead)
+    throw std::runtime_error(in.path() + ": malformed ensemble state " + g);
+  for (std::size_t i = 0; i < n; ++i) {
+    p_[i].v = {particles[4 * i], particles[4 * i + 1], particles[4 * i + 2]};
+    p_[i].t = particles[4 * i + 3];
+  }
+  t_ = scalars[0];
+  v0_ = {scalars[1], scalars[2], scalars[3]};
+  set_majorant(scalars[4]);
+  for (unsigned k = 0; k < kLookahead; ++k)
+    ring_[k] = {static_cast<std::uint32_t>(ring_index[2 * k]),
+                static_cast<std::uint32_t>(ring_index[2 * k + 1]), ring_u[k]};
+  head_ = static_cast<unsigned>(counters[0]);
+  counts_ = {counters[1], counters[2], counters[3]};
+  if (pairwise_) {
+    w_ = in.read_double(g + "/weights");
+    if (w_.size() != n) throw std::runtime_error(in.path() + ": malformed weights in " + g);
+    w_sum_ = scalars[5];
+    w_max_ = scalars[6];
+    set_pairwise_rate();
+  }
+}
+
+}  // namespace granboltz

@@ -1,0 +1,110 @@
+#pragma once
+// One ensemble of the DSMC particle system for the heated inelastic Boltzmann equation, advanced
+// by one of the three time schemes of RW05: no-splitting (Algorithm 3 = GRW05 §4), Euler
+// splitting (Algorithm 1), Strang splitting (Algorithm 2).
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <vector>
+
+#include "granboltz/dsmc/config.hpp"
+#include "granboltz/driver/ensemble_driver.hpp"
+#include "granboltz/io/hdf5_io.hpp"
+#include "granboltz/dsmc/particles.hpp"
+#include "granboltz/random/rng.hpp"
+
+namespace granboltz {
+
+/// Events of one ensemble (RW05 §4.2 effort model).
+struct EventCounts {
+  std::uint64_t collisions = 0;  ///< real collisions
+  std::uint64_t fictitious = 0;  ///< rejected candidate pairs
+  std::uint64_t kicks = 0;       ///< single-particle kicks (white-noise updates)
+};
+
+class DsmcEnsemble {
+ public:
+  /// Draws the initial Maxwellian and the majorant (GRW05 steps 1.1-1.4).
+  /// `progress`, if given, receives the fraction of [0, t_end] simulated so far.
+  DsmcEnsemble(const DsmcConfig& config, std::uint64_t seed, std::uint64_t ensemble,
+               ProgressSlot* progress = nullptr);
+
+  /// Restores an ensemble saved by save() (a checkpoint of an interrupted run).
+  DsmcEnsemble(const DsmcConfig& config, const H5Reader& in, const std::string& group,
+               ProgressSlot* progress = nullptr);
+
+  /// Advances the system to time s > time(); on return every particle is kicked up to s
+  /// (GRW05 Remark 2), ready to be observed. For the splitting schemes s must lie on the grid
+  /// of time steps. If `pause` becomes true, returns false early at a point between events (or
+  /// between steps) from which a later call continues exactly as if it had not stopped.
+  bool advance_to(double s, const std::atomic<bool>* pause = nullptr);
+
+  /// Writes the complete state (particles, streams, majorant, counts) under `group`.
+  void save(H5Writer& out, const std::string& group) const;
+
+  const Particles& particles() const { return p_; }
+  double time() const { return t_; }
+  double u_max() const { return u_max_; }
+  const EventCounts& counts() const { return counts_; }
+  /// Raw 64-bit random numbers drawn since construction by the event loop and the kicks
+  /// (not the initial condition): the work floor that no implementation can go below.
+  std::uint64_t random_draws() const;
+
+ private:
+  // Collision partners are drawn this many events ahead from their own stream and prefetched;
+  // the stream is consumed in order, so the look-ahead cannot change any result.
+  static constexpr unsigned kLookahead = 16;
+  struct Pair {
+    std::uint32_t i, j;  // global majorant: both partners; pairwise: j is drawn after i is kept
+    double u;            // pairwise majorant: the uniform that keeps i with probability w_i/w_max
+  };
+
+  template <bool kHeated, int kLambda, bool kPairwise>
+  bool run_nosplit(double s, const std::atomic<bool>* pause);
+  template <int kLambda, bool kPairwise>
+  void collide_during(double h);  // collision step of length h (splitting schemes)
+  template <int kLambda, bool kPairwise>
+  Pair select_pair(Engine& pairs, Engine& events);  // candidate pair of the majorant process
+  void kick_all_by(double h);      // kicking step of length h (splitting schemes)
+  void kick_all_to(double s);      // kick every particle from its own last time to s
+  template <int kLambda>
+  bool accept(double u2, Engine& events);  // global majorant: real (not fictitious) collision?
+  template <int kLambda>
+  bool accept_pairwise(double u2, double bound, Engine& events);
+  template <int kLambda>
+  double weight(const Vec3& v) const;  // pairwise majorant weight |v - V|^lambda
+  template <int kLambda>
+  void reweigh(std::uint32_t i);       // refresh w_i, sum and maximum after v_i changed
+  void reweigh_all();
+  void set_pairwise_rate();
+  void adapt_majorant(const Particle& a);
+  void adapt_majorant_all();
+  void set_majorant(double u_max);
+  Pair draw_pair(Engine& pairs);
+  Pair next_pair(Engine& pairs);
+  void report(double t) {
+    if (progress_) progress_->store(t / c_.t_end, std::memory_order_relaxed);
+  }
+
+  const DsmcConfig& c_;
+  Particles p_;
+  double t_ = 0.0;
+  Vec3 v0_;               // bulk velocity at t = 0: the centre of the majorant (GRW05 step 1.3)
+  double u_max_ = 0.0;    // U_max
+  double u_max2_ = 0.0;   // U_max^2
+  double inv_rate_ = 0.0; // 1 / pi_hat, pi_hat = 2 pi gamma C (n - 1) U_max^lambda
+  double adapt_factor2_;  // (1 or 2)^2: paper or strict majorant update
+  bool heated_;           // beta > 0
+  Engine events_, pairs_, sweep_;
+  std::array<Pair, kLookahead> ring_{};
+  unsigned head_ = 0;
+  // Pairwise majorant (dsmc.majorant: pairwise): B_ij <= C gamma 4 pi (w_i + w_j).
+  bool pairwise_;
+  std::vector<double> w_;
+  double w_sum_ = 0.0, w_max_ = 0.0;
+  double pairwise_rate_factor_ = 0.0;  // pi_hat / W
+  EventCounts counts_;
+  ProgressSlot* progress_;
+};
+
+}  // namespace granboltz

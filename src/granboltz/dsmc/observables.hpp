@@ -1,0 +1,52 @@
+#pragma once
+// Observers of one particle system at one time: the moments of GRW05 eqs. (9)-(13) and RW05
+// eq. (29), and the radial histogram of GRW05 eq. (37). Pure functions of the particles.
+#include <array>
+#include <cstdint>
+#include <span>
+
+#include "granboltz/dsmc/config.hpp"
+#include "granboltz/dsmc/particles.hpp"
+
+namespace granboltz {
+
+/// The observables, flattened into one array of scalars. Offsets and shapes in kObservables.
+inline constexpr int kNumScalars = 20;
+using Observation = std::array<double, kNumScalars>;
+
+struct ObservableInfo {
+  const char* name;  ///< HDF5 group name
+  int offset;        ///< first scalar in an Observation
+  int rank;          ///< 0 scalar, 1 vector [3], 2 tensor [3, 3]
+  const char* description;
+};
+
+inline constexpr ObservableInfo kObservables[] = {
+    {"density", 0, 0, "number density rho (particle weights 1/n: always 1)"},
+    {"bulk_velocity", 1, 1, "V = m / rho (GRW05 eq. 12)"},
+    {"temperature", 4, 0, "T = (tr M - rho |V|^2) / (3 rho) (GRW05 eq. 13)"},
+    {"pressure_tensor", 5, 2, "P = int (v-V)(v-V)^T f dv"},
+    {"heat_flux", 14, 1, "q = 1/2 int (v-V) |v-V|^2 f dv"},
+    {"fourth_moment", 17, 0, "gamma = int |v-V|^4 f dv - 15 T^2 (RW05 §4.1)"},
+    {"crit", 18, 0, "deviation from the Maxwellian, Crit (RW05 eq. 29)"},
+    {"temperature_uncentred", 19, 0,
+     "(1/3) int |v|^2 f dv = T + |V|^2/3: the estimator phi(v) = |v|^2/3 of RW05 §4.1, "
+     "behind the published error tables"},
+};
+
+inline int observable_size(const ObservableInfo& o) { return o.rank == 0 ? 1 : o.rank == 1 ? 3 : 9; }
+
+/// All moments of the empirical measure (1/n) sum delta_{v_j}, computed in two passes about the
+/// bulk velocity.
+Observation measure(std::span<const Particle> particles);
+
+/// Crit(t) of RW05 eq. (29) from the central moments.
+double crit(double temperature, const double* pressure, const double* heat_flux,
+            double fourth_moment);
+
+/// Adds the radial histogram counts of |v_j| to counts[0..K]: shell k < K holds
+/// k h <= |v| < (k+1) h, h = R/K (GRW05 eq. 37), shell K holds |v| >= R.
+void radial_histogram(std::span<const Particle> particles, const HistogramSpec& spec,
+                      std::uint64_t* counts);
+
+}  // namespace granboltz

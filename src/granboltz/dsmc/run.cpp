@@ -1,0 +1,273 @@
+#include "granboltz/dsmc/run.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <condition_variable>
+#include <map>
+#include <memory>
+#include <mutex>
+
+#include "granboltz/dsmc/ensemble.hpp"
+#include "granboltz/dsmc/observables.hpp"
+
+namespace granboltz {
+
+namespace {
+struct ColumnSpec {
+  const char* path;
+  bool floating;
+};
+const ColumnSpec kColumns[] = {{"/events/collisions", false},
+                               {"/events/fictitious", false},
+                               {"/events/kicks", false},
+                               {"/events/u_max_final", true}};
+
+bool checkpoint_has(const std::vector<std::uint64_t>& sorted, std::uint64_t e) {
+  return std::binary_search(sorted.begin(), sorted.end(), e);
+}
+}  // namespace
+
+std::vector<double> dsmc_times(const DsmcConfig& d) {
+  const std::uint64_t M = d.observations();
+  std::vector<double> t(M + 1);
+  for (std::uint64_t m = 0; m <= M; ++m)
+    t[m] = m == M ? d.t_end : static_cast<double>(m) * d.observe_every;
+  return t;
+}
+
+Record dsmc_layout(const Config& config) {
+  const DsmcConfig& d = config.dsmc;
+  const std::uint64_t rows = d.observations() + 1;
+  Record r;
+  r.declare_moments("series", rows * kNumScalars);
+  if (d.histogram.shells) r.declare_counts("histogram", rows * (d.histogram.shells + 1));
+  if (d.steady) {
+    r.declare_moments("steady", kNumScalars);
+    r.declare_total("steady_samples");
+  }
+  for (const ColumnSpec& c : kColumns) r.declare_column(c.path, c.floating);
+  return r;
+}
+
+namespace {
+
+/// An ensemble under way: the particle system and what has been observed so far.
+struct InProgress {
+  std::unique_ptr<DsmcEnsemble> ensemble;
+  std::uint64_t next = 0;              // the next observation index m
+  std::vector<Observation> obs;        // [rows]
+  std::vector<std::uint64_t> hist;     // [rows * K1]
+};
+
+std::string in_progress_group(std::uint64_t e) { return "/in_progress/" + std::to_string(e); }
+
+void save_in_progress(H5Writer& out, std::uint64_t e, const InProgress& w) {
+  const std::string g = in_progress_group(e);
+  w.ensemble->save(out, g);
+  std::vector<double> obs;
+  for (std::uint64_t m = 0; m < w.next; ++m) obs.insert(obs.end(), w.obs[m].begin(), w.obs[m].end());
+  out.write(g + "/observations", obs, {w.next, kNumScalars});
+  out.write(g + "/histogram", w.hist, {w.hist.size()});
+  out.attr(g, "next_observation", w.next);
+}
+
+InProgress load_in_progress(const DsmcConfig& d, const H5Reader& in, std::uint64_t e,
+                            std::uint64_t rows, std::uint64_t K1, ProgressSlot* slot) {
+  const std::string g = in_progress_group(e);
+  InProgress w;
+  w.ensemble = std::make_unique<DsmcEnsemble>(d, in, g, slot);
+  w.next = in.attr_uint64(g, "next_observation");
+  const auto obs = in.read_double(g + "/observations");
+  w.hist = in.read_uint64(g + "/histogram");
+  if (w.next == 0 || w.next > rows || obs.size() != w.next * kNumScalars ||
+      w.hist.size() != rows * K1)
+    throw std::runtime_error(in.path() + ": malformed ensemble state " + g);
+  w.obs.resize(rows);
+  for (std::uint64_t m = 0; m < w.next; ++m)
+    std::copy_n(obs.begin() + static_cast<std::ptrdiff_t>(m * kNumScalars), kNumScalars,
+                w.obs[m].begin());
+  return w;
+}
+
+}  // namespace
+
+void run_dsmc(const Config& config, const DriverOptions& options, Record& record) {
+  const DsmcConfig& d = config.dsmc;
+  const std::vector<double> times = dsmc_times(d);
+  const std::uint64_t rows = times.size();
+  const std::uint64_t K1 = d.histogram.shells ? d.histogram.shells + 1 : 0;
+  const double steady_after = d.steady_from + 1e-9 * d.observe_every;
+
+  // Ensembles saved in progress by an interrupted run come first, then those not yet started.
+  std::vector<std::uint64_t> todo, resumed;
+  std::unique_ptr<H5Reader> checkpoint;
+  if (!options.resume_from.empty()) {
+    checkpoint = std::make_unique<H5Reader>(options.resume_from);
+    for (std::uint64_t e = config.first_ensemble(); e < config.last_ensemble(); ++e)
+      if (!record.has_ensemble(e) && checkpoint->exists(in_progress_group(e))) resumed.push_back(e);
+  }
+  todo = resumed;
+  for (std::uint64_t e = config.first_ensemble(); e < config.last_ensemble(); ++e)
+    if (!record.has_ensemble(e) && !checkpoint_has(resumed, e)) todo.push_back(e);
+
+  // One lock for the record and the pause protocol of checkpoints: when one is due, every
+  // ensemble under way parks at its next safe point, the checkpoint is written, and they go on.
+  std::mutex mutex;
+  std::condition_variable changed;
+  std::atomic<bool> pause{false};
+  int active = 0;
+  std::map<std::uint64_t, const InProgress*> parked;
+
+  DriverOptions opts = options;
+  if (options.checkpoint)
+    opts.tick = [&] {
+      std::unique_lock<std::mutex> lock(mutex);
+      pause = true;
+      changed.wait(lock, [&] { return static_cast<int>(parked.size()) == active; });
+      try {
+        options.checkpoint(record, [&](H5Writer& out) {
+          for (const auto& [e, w] : parked) save_in_progress(out, e, *w);
+        });
+      } catch (...) {
+        pause = false;
+        changed.notify_all();
+        throw;
+      }
+      pause = false;
+      changed.notify_all();
+    };
+
+  for_each_ensemble(todo, opts, [&](std::uint64_t e, ProgressSlot& slot) {
+    InProgress w;
+    {
+      std::unique_lock<std::mutex> lock(mutex);
+      ++active;
+    }
+    // However this ensemble ends (an exception included), it stops counting as under way, so that
+    // a checkpoint never waits for it.
+    struct Leave {
+      std::mutex& mutex;
+      std::condition_variable& changed;
+      int& active;
+      bool done = false;
+      void now() {  // with the lock held
+        if (!done) --active, changed.notify_all(), done = true;
+      }
+      ~Leave() {
+        if (done) return;
+        std::lock_guard<std::mutex> lock(mutex);
+        now();
+      }
+    } leave{mutex, changed, active};
+    if (checkpoint_has(resumed, e)) {
+      std::unique_lock<std::mutex> lock(mutex);  // HDF5 (serial build) is not thread-safe
+      w = load_in_progress(d, *checkpoint, e, rows, K1, &slot);
+    } else {
+      w.ensemble = std::make_unique<DsmcEnsemble>(d, config.seed, e, &slot);
+      w.obs.resize(rows);
+      w.hist.assign(rows * K1, 0);
+    }
+    DsmcEnsemble& ensemble = *w.ensemble;
+    for (; w.next < rows; ++w.next) {
+      const std::uint64_t m = w.next;
+      if (m > 0)
+        while (!ensemble.advance_to(times[m], &pause)) {
+          std::unique_lock<std::mutex> lock(mutex);
+          parked[e] = &w;
+          changed.notify_all();
+          changed.wait(lock, [&] { return !pause.load(); });
+          parked.erase(e);
+        }
+      w.obs[m] = measure(ensemble.particles());
+      if (K1) radial_histogram(ensemble.particles(), d.histogram, &w.hist[m * K1]);
+    }
+    // Exact sums: the order in which ensembles arrive here does not matter.
+    std::lock_guard<std::mutex> lock(mutex);
+    leave.now();
+    auto& series = record.moments("series");
+    for (std::uint64_t m = 0; m < rows; ++m) {
+      for (int k = 0; k < kNumScalars; ++k) series[m * kNumScalars + k].add(w.obs[m][k]);
+      if (d.steady && times[m] > steady_after) {
+        auto& steady = record.moments("steady");
+        for (int k = 0; k < kNumScalars; ++k) steady[k].add(w.obs[m][k]);
+        ++record.total("steady_samples");
+      }
+    }
+    if (K1) record.add_counts("histogram", w.hist);
+    const EventCounts& c = ensemble.counts();
+    record.add_ensemble(e, {static_cast<double>(c.collisions), static_cast<double>(c.fictitious),
+                            static_cast<double>(c.kicks), ensemble.u_max()});
+  });
+}
+
+namespace {
+
+Dims shape_of(const ObservableInfo& o, std::uint64_t rows) {
+  if (o.rank == 0) return {rows};
+  if (o.rank == 1) return {rows, 3};
+  return {rows, 3, 3};
+}
+
+void write_moments(H5Writer& out, const std::string& prefix, const std::vector<Moments2>& sums,
+                   std::uint64_t rows, std::uint64_t samples, bool scalar_rows) {
+  for (const auto& o : kObservables) {
+    const int size = observable_size(o);
+    std::vector<double> mean, ci, var;
+    for (std::uint64_t m = 0; m < rows; ++m)
+      for (int k = 0; k < size; ++k) {
+        const MeanCi s = sums[m * kNumScalars + o.offset + k].stats(samples);
+        mean.push_back(s.mean);
+        ci.push_back(s.ci);
+        var.push_back(s.variance);
+      }
+    Dims dims = shape_of(o, rows);
+    if (scalar_rows) dims.erase(dims.begin());
+    const std::string g = prefix + "/" + o.name;
+    out.write(g + "/mean", mean, dims);
+    out.write(g + "/ci", ci, dims);
+    out.write(g + "/variance", var, dims);
+    out.attr(g, "description", std::string(o.description));
+  }
+}
+
+}  // namespace
+
+void present_dsmc(H5Writer& out, const Config& config, const Record& record) {
+  const DsmcConfig& d = config.dsmc;
+  const std::vector<double> times = dsmc_times(d);
+  const std::uint64_t rows = times.size(), N = record.ensembles();
+  out.write("/time", times, {rows});
+  write_moments(out, "", record.moments("series"), rows, N, false);
+  out.attr("/", "confidence_lambda_p", kLambdaP);
+
+  if (d.histogram.shells) {
+    const std::uint64_t K1 = d.histogram.shells + 1;
+    const auto& counts = record.counts("histogram");
+    const auto& counts_sq = record.counts_sq("histogram");
+    std::vector<double> edges(K1), mean(rows * K1), ci(rows * K1);
+    for (std::uint64_t k = 0; k < K1; ++k)
+      edges[k] = d.histogram.radius * static_cast<double>(k) / static_cast<double>(K1 - 1);
+    const double n = static_cast<double>(d.particles), Nd = static_cast<double>(N);
+    for (std::size_t k = 0; k < mean.size(); ++k) {
+      const double f = static_cast<double>(counts[k]) / (n * Nd);
+      const double f2 = static_cast<double>(counts_sq[k]) / (n * n * Nd);
+      mean[k] = f;
+      ci[k] = kLambdaP * std::sqrt(std::max(0.0, f2 - f * f) / Nd);
+    }
+    out.write("/histogram/edges", edges, {K1});
+    out.write("/histogram/mean", mean, {rows, K1});
+    out.write("/histogram/ci", ci, {rows, K1});
+    out.write("/histogram/counts", counts, {rows, K1});
+    out.attr("/histogram", "description",
+             std::string("f_k = fraction of particles with r_k <= |v| < r_{k+1}, r_k = k R/K "
+                         "(GRW05 eq. 37); the last shell holds |v| >= R"));
+  }
+  if (d.steady) {
+    const std::uint64_t samples = record.total("steady_samples");
+    write_moments(out, "/steady", record.moments("steady"), 1, samples, true);
+    out.attr("/steady", "samples", samples);
+    out.attr("/steady", "from", d.steady_from);
+  }
+}
+
+}  // namespace granboltz

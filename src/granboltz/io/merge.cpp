@@ -1,0 +1,56 @@
+#include "granboltz/io/merge.hpp"
+
+#include <chrono>
+#include <cstdio>
+
+#include "granboltz/io/output.hpp"
+
+namespace granboltz {
+
+void merge_outputs(const std::vector<std::string>& inputs, const std::string& output) {
+  if (inputs.empty()) throw ConfigError("merge: no input files");
+  std::string config_text, version;
+  Config config;
+  Record record;
+  for (std::size_t i = 0; i < inputs.size(); ++i) {
+    H5Reader in(inputs[i]);
+    const Config c = config_of_file(in);
+    const std::string text = in.attr_string("/", "config");
+    const std::string v = in.attr_string("/", "version") + " " + in.attr_string("/", "git_sha");
+    if (i == 0) {
+      config_text = text;
+      version = v;
+      config = c;
+      record = layout_of(config);
+    } else if (text != config_text) {
+      throw ConfigError(inputs[i] + ": different config from " + inputs[0] +
+                        " (merge takes the shards of one run)");
+    } else if (v != version) {
+      throw ConfigError(inputs[i] + ": made by granboltz " + v + ", " + inputs[0] + " by " +
+                        version + " (merge takes outputs of one version)");
+    }
+    Record part = layout_of(config);
+    try {
+      part.read(in);
+      record.merge(part);
+    } catch (const std::runtime_error& e) {
+      throw ConfigError(inputs[i] + ": " + e.what());
+    }
+  }
+  // Shards must partition the ensembles of the run: anything else is not that run's result.
+  const std::uint64_t N = config.ensembles;
+  const auto have = record.ensembles();
+  if (have != N || record.ensemble_indices().back() != N - 1)
+    throw ConfigError("merge: the inputs hold " + std::to_string(have) + " of the run's " +
+                      std::to_string(N) + " ensembles; give every shard");
+  H5Writer out(output);
+  std::string from;
+  for (const auto& p : inputs) {
+    if (!from.empty()) from += ' ';
+    from += p;
+  }
+  write_output(out, config, record, {{"command", "granboltz merge"}, {"merged_from", from}});
+  out.commit();
+}
+
+}  // namespace granboltz

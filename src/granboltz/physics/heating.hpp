@@ -1,0 +1,28 @@
+#pragma once
+// The white-noise heating of GRW05 eq. (23): Brownian motion of a velocity over a time s.
+#include <cmath>
+
+#include "granboltz/random/samplers.hpp"
+#include "granboltz/physics/vec3.hpp"
+
+namespace granboltz {
+
+/// v + sqrt(2 beta s) xi with xi standard normal in R^3 (GRW05 eq. 23, RW05 eq. 9).
+template <class E>
+inline Vec3 white_noise_kick(Vec3 v, double beta, double s, E& eng) {
+  return v + std::sqrt(2.0 * beta * s) * normal3(eng);
+}
+
+/// Kicks two velocities, over the times sa and sb, with six normals from (usually) three draws.
+template <class E>
+inline void white_noise_kick2(Vec3& a, double sa, Vec3& b, double sb, double beta, E& eng) {
+  double n[6];
+  normal_pair(eng, n[0], n[1]);
+  normal_pair(eng, n[2], n[3]);
+  normal_pair(eng, n[4], n[5]);
+  const double ka = std::sqrt(2.0 * beta * sa), kb = std::sqrt(2.0 * beta * sb);
+  a += Vec3{ka * n[0], ka * n[1], ka * n[2]};
+  b += Vec3{kb * n[3], kb * n[4], kb * n[5]};
+}
+
+}  // namespace granboltz
