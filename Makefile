@@ -6,12 +6,16 @@ BUILD ?= build
 JOBS ?= 2
 PROFILE ?= config/quick.yaml
 
-.PHONY: all deps build test test-cpp test-python test-sanitize reproduce paper bench sanitize clean
+.PHONY: all deps deps-browser build test test-cpp test-python test-sanitize reproduce paper bench sanitize clean
 
 all: build
 
 deps:
 	@bash scripts/install-deps.sh
+
+## make deps-browser: the dependencies plus Chromium (large), for the browser test of the report
+deps-browser:
+	@bash scripts/install-deps.sh --with-browser
 
 $(BUILD)/CMakeCache.txt:
 	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release
@@ -25,8 +29,16 @@ test: deps build test-cpp test-python
 test-cpp:
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
+## The browser test of the HTML report runs where Chromium is installed (make deps-browser) and
+## is skipped, with the reason printed, where it is not.
+CHROMIUM ?= $(shell command -v chromium || command -v chromium-browser)
 test-python:
-	/usr/bin/python3 -m pytest -q tests/python
+	@if [ -n "$(CHROMIUM)" ]; then \
+	  echo "test-python: the browser test of the report runs in $$($(CHROMIUM) --version 2>/dev/null)"; \
+	else \
+	  echo "test-python: Chromium not installed: the browser test of the report is SKIPPED (make deps-browser)"; \
+	fi
+	CHROMIUM="$(CHROMIUM)" /usr/bin/python3 -m pytest -q -rs tests/python
 
 ## make test-sanitize: the C++ suite built with AddressSanitizer + UndefinedBehaviorSanitizer
 ## (build-asan; every finding, leaks included, fails the test), without the tests labelled slow

@@ -1,6 +1,9 @@
 #!/usr/bin/env bash
 # Installs granboltz's build and pipeline dependencies from Debian packages (no PyPI).
 # Shared by `make reproduce`, `make test` and CI. Skips apt when everything is present.
+# --with-browser adds Chromium, for the browser test of the HTML report (tests/python/
+# test_report_browser.py): optional because it is large (124 MB download, 414 MB installed,
+# ~1 min), installed by CI (.ci/run) and by `make deps-browser`.
 set -euo pipefail
 
 PACKAGES=(
@@ -10,6 +13,13 @@ PACKAGES=(
   snakemake python3-numpy python3-h5py python3-matplotlib python3-scipy python3-pytest
   python3-jsonschema python3-yaml
 )
+BROWSER_PACKAGES=(chromium)
+for arg in "$@"; do
+  case "$arg" in
+    --with-browser) PACKAGES+=("${BROWSER_PACKAGES[@]}") ;;
+    *) echo "install-deps: unknown option '$arg' (allowed: --with-browser)" >&2; exit 2 ;;
+  esac
+done
 
 missing=()
 for p in "${PACKAGES[@]}"; do
