@@ -34,6 +34,7 @@ from fractions import Fraction
 from functools import lru_cache
 from math import factorial, prod, sqrt
 
+import mpmath
 import numpy as np
 
 
@@ -148,7 +149,8 @@ def _solve_linear(rate, forcing, y0):
 
 def time_dependent_moments(pmax, alpha, beta, nu, T0=1):
     """Exact M_2p(t), p = 0..pmax, from a Maxwellian of temperature T0: a list of exponential
-    polynomials {rate: [a_0, a_1, ...]} = sum a_k t^k e^{-rate t}; evaluate with `evaluate`."""
+    polynomials {rate: [a_0, a_1, ...]} = sum a_k t^k e^{-rate t}; evaluate with `evaluate`.
+    The number of rates grows like the partitions of p: pmax = 8 takes 0.2 s, 12 takes 4 s."""
     alpha, beta, nu = rational(alpha), rational(beta), rational(nu)
     rates, init = _decay_rates(pmax, alpha, nu), maxwellian_moments(pmax, T0)
     M = [{Fraction(0): [Fraction(1)]}]
@@ -160,11 +162,16 @@ def time_dependent_moments(pmax, alpha, beta, nu, T0=1):
     return M
 
 
-def evaluate(expoly, t):
-    """Value of an exponential polynomial (from time_dependent_moments) at times t (array)."""
-    t = np.asarray(t, dtype=float)
-    return sum(sum(float(a) * t**k for k, a in enumerate(poly)) * np.exp(-float(r) * t)
-               for r, poly in expoly.items())
+def evaluate(expoly, t, digits=80):
+    """Value of an exponential polynomial (from time_dependent_moments) at times t (array).
+    Summed in `digits`-digit arithmetic (mpmath): close decay rates give large terms that cancel,
+    5e12-fold for M_12 and 7e42-fold for M_32 of GRW05 Ex. 7 at t = 0."""
+    t = np.atleast_1d(np.asarray(t, dtype=float))
+    with mpmath.workdps(digits):
+        terms = [(mpmath.mpf(r.numerator) / r.denominator,
+                  [mpmath.mpf(a.numerator) / a.denominator for a in poly]) for r, poly in expoly.items()]
+        return np.array([float(sum(mpmath.polyval(poly[::-1], mpmath.mpf(x)) * mpmath.exp(-r * mpmath.mpf(x))
+                                   for r, poly in terms)) for x in t])
 
 
 def sonine_a2(M2, M4):
