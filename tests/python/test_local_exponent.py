@@ -51,6 +51,11 @@ def test_local_exponent_band_covers_the_true_b_and_excludes_a_wrong_one(hard_sph
     assert np.all(np.abs(L["b"] - 1.5) <= L["ci_b"])
     sharp = L["ci_b"] < 0.1  # where the band is narrow, b = 1.25 is excluded
     assert sharp.sum() > 10 and np.all(np.abs(L["b"][sharp] - 1.25) > L["ci_b"][sharp])
+    far = le.far_estimate(L, max_ci=0.2)
+    assert far["ci"] <= 0.2 and abs(far["value"] - 1.5) <= far["ci"]
+    assert far["r"] == L["r"][np.flatnonzero(L["ci_b"] <= 0.2)[-1]]
+    with pytest.raises(ValueError, match="no window"):
+        le.far_estimate(L, max_ci=1e-4)
 
 
 def test_tail_fit_recovers_a_and_b_with_delta_and_jackknife_bands(hard_sphere_like):
@@ -80,19 +85,20 @@ def test_chi_free_sliding_fit_recovers_an_exponential_tail_with_prefactor():
 
 
 def test_local_exponent_ignores_a_gaussian_core():
-    # 90 % Maxwellian (T = 1) + 10 % exponential tail (b = 1, a = 1): ln f(0) - ln f(r) = r + C'
-    # with C' far from 0, yet b(r) = 1 where the tail dominates (r > 7)
+    # 70 % Maxwellian (T = 1) + 30 % exponential tail (b = 1, a = 1): ln f(0) - ln f(r) = r + C'
+    # with C' far from 0 (the eq. 38 slope is biased), yet b(r) = 1 where the tail dominates
     n, N = 200_000, 40
 
     def draw(rng):
-        gauss = rng.random(n) < 0.9
+        gauss = rng.random(n) < 0.7
         r = sample_radii(rng, n, 1.0, 1.0, 0.0)
         r[gauss] = np.linalg.norm(rng.normal(size=(gauss.sum(), 3)), axis=1)
         return r
     sh = ensembles(draw, N, 24.0, 96, 3)
     L = le.local_exponent(le.pool_shells(sh, min_count=400), half_width=4)
-    far = L["r"] > 7
-    assert far.sum() > 5 and np.all(np.abs(L["b"][far] - 1.0) <= L["ci_b"][far])
+    far = L["r"] > 6  # the Gaussian is below 1e-3 of the tail there
+    assert far.sum() > 8 and np.all(np.abs(L["b"][far] - 1.0) <= L["ci_b"][far])
+    assert np.any(np.abs(L["b"][far] - 1.5) > L["ci_b"][far])  # and the band is informative
     assert np.any(np.abs(L["b"][L["r"] < 3] - 1.0) > L["ci_b"][L["r"] < 3])  # the core is not b = 1
 
 

@@ -124,7 +124,7 @@ def _fit(pooled, sel, chi_free, p0, frac=None):
     model, jac = _log_bin_model(r, logw, chi_free)
     popt, pcov = curve_fit(model, None, np.log(frac), p0=p0, sigma=sigma, jac=jac,
                            absolute_sigma=True, bounds=(lower, upper), method="trf", x_scale="jac",
-                           ftol=1e-12, xtol=1e-12, gtol=1e-12, max_nfev=2000)
+                           ftol=1e-12, xtol=1e-12, gtol=1e-12, max_nfev=400)
     return popt, pcov
 
 
@@ -187,3 +187,14 @@ def sliding_tail_fit(pooled, half_width=8, z=Z, jackknife_groups=0, step=1):
     chi, se_*, ci_*, at_bound (one entry per window of 2*half_width+1 pooled bins, every step-th).
     Far out the bands get wide and the delta method is only indicative (far from Gaussian)."""
     return _sliding(pooled, half_width, True, z, jackknife_groups, step)
+
+
+def far_estimate(result, max_ci=0.15, key="b"):
+    """The outermost window of a local_exponent / sliding_tail_fit result whose band half-width
+    ci_<key> is at most max_ci (and not at a bound): dict r, value, ci (how far the data measure
+    the exponent to +-max_ci).  ValueError if no window qualifies."""
+    ok = (result["ci_" + key] <= max_ci) & ~result["at_bound"]
+    if not ok.any():
+        raise ValueError(f"no window measures {key} to +-{max_ci}")
+    i = np.flatnonzero(ok)[-1]
+    return {"r": float(result["r"][i]), "value": float(result[key][i]), "ci": float(result["ci_" + key][i])}

@@ -207,7 +207,7 @@ def crit_steady(alpha, beta, nu):
 
 def hcs_scaled_moments(pmax, alpha):
     """Moments m_p = lim M_2p(t)/T(t)^p (Fractions, m_0 = 1, m_1 = 3) of the homogeneous cooling
-    state (beta = 0; independent of nu and of the initial state).  With T ~ e^{-r_1 t/...}:
+    state (beta = 0; independent of nu and of the initial state).  T decays like e^{-r_1 t}, so
     dm_p/dt = -(r_p - p r_1) m_p + nu sum_{0<q<p} c_q m_q m_{p-q}, so m_p tends to its fixed point
     only while r_p > p r_1; beyond that p the scaled moment grows without bound (power-law HCS
     tail) and a ValueError is raised."""
