@@ -83,8 +83,9 @@ def pool_shells(shells, min_count=400):
               "frac": np.array([shells["frac"][a:b].sum() for a, b in groups]),
               "se": np.array([np.sqrt(np.sum(shells["se"][a:b] ** 2)) for a, b in groups]),
               "counts": np.array([counts[a:b].sum() for a, b in groups]), "slices": groups}
-    if "per_ensemble" in shells:
-        pooled["per_ensemble"] = np.stack([shells["per_ensemble"][:, a:b].sum(axis=1) for a, b in groups], axis=1)
+    if "per_ensemble" in shells:  # then the pooled se includes the shells' covariances
+        per = np.stack([shells["per_ensemble"][:, a:b].sum(axis=1) for a, b in groups], axis=1)
+        pooled["per_ensemble"], pooled["se"] = per, per.std(axis=0, ddof=1) / np.sqrt(per.shape[0])
     return pooled
 
 
