@@ -73,8 +73,9 @@ TEST(MaxwellMolecules, SteadySpeedMomentsMatchTheExactMomentHierarchy) {
   // (../shared/reference/tails.md). Started from the Maxwellian at the steady T = 8/3, E[T] of
   // the particle system stays (1 - 1/n) 8/3 exactly (MaxwellExact), and by t = 8 the higher
   // moments have relaxed to e^-17 of their initial deviations. Their own O(1/n) bias (centring on
-  // the empirical V, finite n) is measured as about -6/n for M_4 and -20/n relative for M_6:
-  // at n = 10^4 both lie well below the confidence half-widths (about 3e-3 and 8e-3 relative).
+  // the empirical V, finite n) was measured at n = 100 (N = 20000) as -2.0(6)/n relative for M_4
+  // and -2.7(12)/n for M_6: at n = 10^4 that is 1/20 of the confidence half-widths (about 4e-3
+  // and 9e-3 relative), so the limit values are the reference.
   const std::uint64_t n = 10000, N = 400;
   const int P = 3;
   const test::DsmcRun r(parse_config("{}", "test",
