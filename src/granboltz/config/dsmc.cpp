@@ -115,7 +115,8 @@ DsmcConfig read_dsmc(const Section& s) {
             "must satisfy 0 <= steady_from < t_end");
   }
   s.finish({"particles", "scheme", "steps", "alpha", "beta", "gamma", "kernel", "initial",
-            "t_end", "observe_every", "histogram", "majorant", "majorant_update", "moments", "steady_from"});
+            "t_end", "observe_every", "histogram", "majorant", "majorant_update", "moments",
+            "steady_from"});
   return c;
 }
 

@@ -328,7 +328,8 @@ void present_dsmc(H5Writer& out, const Config& config, const Record& record) {
   if (d.steady) {
     const std::uint64_t samples = record.total("steady_samples");
     write_moments(out, "/steady", record.moments("steady"), 1, samples, true);
-    if (P) write_speed_moments(out, "/steady", record.moments("moment_steady"), P, 1, samples, true);
+    if (P)
+      write_speed_moments(out, "/steady", record.moments("moment_steady"), P, 1, samples, true);
     out.attr("/steady", "samples", samples);
     out.attr("/steady", "from", d.steady_from);
   }
