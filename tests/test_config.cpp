@@ -41,6 +41,19 @@ TEST(Config, ResolvedYamlReadsBackToTheSameConfig) {
   EXPECT_EQ(d.dsmc.kernel.C, c.dsmc.kernel.C);  // bit for bit
 }
 
+TEST(Config, SpeedMomentsDefaultToFourAndAreStoredInTheResolvedYaml) {
+  const Config c = parse_config(kExample3, "test.yaml");
+  EXPECT_EQ(c.dsmc.moments, 4);
+  EXPECT_NE(c.to_yaml(true).find("moments: 4"), std::string::npos);
+  for (const int P : {0, 16}) {
+    const Config d = parse_config(kExample3, "t", {"dsmc.moments=" + std::to_string(P)});
+    EXPECT_EQ(d.dsmc.moments, P);
+    EXPECT_EQ(parse_config(d.to_yaml(true), "resolved").dsmc.moments, P);
+  }
+  EXPECT_EQ(test::config_error(kExample3, {"dsmc.moments=17"}),
+            "dsmc.moments = 17: must satisfy 0 <= moments <= 16");
+}
+
 TEST(Config, PhysicsOnlyYamlLeavesOutThreadsAndShards) {
   const Config c = parse_config(kExample3, "t", {"threads=2", "shard.count=2", "shard.index=1"});
   EXPECT_EQ(c.to_yaml(true).find("threads"), std::string::npos);

@@ -26,6 +26,32 @@ TEST(Observables, MomentsOfTwoParticlesAreExact) {
   EXPECT_DOUBLE_EQ(o[19], 1.0 / 3.0 + (4.0 + 1.0 + 1.0) / 3.0);
 }
 
+TEST(Observables, SpeedMomentsOfAHandComputedSystemAreExact) {
+  // c = v - V in {(3,0,0), (-1,2,0), (-2,-2,0), 0}: |c|^2 = 9, 5, 8, 0 and sum c = 0, so
+  // <|c|^{2p}> = (9^p + 5^p + 8^p) / 4, every term an integer below 2^53 up to p = 16.
+  const Vec3 V{0.5, -1, 2};
+  const Vec3 c[4] = {{3, 0, 0}, {-1, 2, 0}, {-2, -2, 0}, {0, 0, 0}};
+  Particles p(4);
+  for (int j = 0; j < 4; ++j) p[j].v = c[j] + V;
+  double moments[kMaxMoments];
+  const Observation o = measure(p, moments);
+  double a = 1, b = 1, d = 1;
+  for (int k = 0; k < kMaxMoments; ++k) {
+    a *= 9, b *= 5, d *= 8;
+    EXPECT_EQ(moments[k], (a + b + d) / 4) << moment_name(k + 1);
+  }
+  EXPECT_EQ(moment_name(16), "moment_32");
+  // p = 1 and 2 are the temperature and the fourth moment of the fixed observables.
+  EXPECT_EQ(moments[0], 3 * o[4]);
+  EXPECT_DOUBLE_EQ(moments[1], o[17] + 15 * o[4] * o[4]);
+  // Asking for the speed moments leaves every other observable bit for bit as it was.
+  const Observation plain = measure(p);
+  for (int k = 0; k < kNumScalars; ++k) EXPECT_EQ(o[k], plain[k]) << k;
+  double fewer[3];
+  measure(p, fewer);
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(fewer[k], moments[k]);
+}
+
 TEST(Observables, CritIsZeroForAMaxwellianAndPositiveOtherwise) {
   const double P[9] = {2, 0, 0, 0, 2, 0, 0, 0, 2}, q[3] = {0, 0, 0};
   EXPECT_DOUBLE_EQ(crit(2.0, P, q, 0.0), 0.0);

@@ -39,6 +39,10 @@ struct DsmcRun {
   MeanCi at(std::size_t m, int k) const {
     return record.moments("series")[m * kNumScalars + k].stats(ensembles);
   }
+  /// Mean and confidence of the speed moment <|v - V|^{2p}> at observation m.
+  MeanCi moment(std::size_t m, int p, int P) const {
+    return record.moments("moment_series")[m * P + (p - 1)].stats(ensembles);
+  }
 };
 
 /// A fresh directory removed at the end of the test.

@@ -104,6 +104,10 @@ DsmcConfig read_dsmc(const Section& s) {
                       "or with scheme euler or strang, or use majorant: global");
   c.majorant_update = s.choice("majorant_update", {"paper", "strict"}, "paper") == "strict"
                           ? MajorantUpdate::kStrict : MajorantUpdate::kPaper;
+  const std::uint64_t moments = s.integer("moments", 4);
+  s.check(moments <= static_cast<std::uint64_t>(kMaxMoments), "moments",
+          static_cast<double>(moments), "must satisfy 0 <= moments <= 16");
+  c.moments = static_cast<int>(moments);
   if (s.has("steady_from")) {
     c.steady = true;
     c.steady_from = s.real("steady_from");
@@ -111,7 +115,8 @@ DsmcConfig read_dsmc(const Section& s) {
             "must satisfy 0 <= steady_from < t_end");
   }
   s.finish({"particles", "scheme", "steps", "alpha", "beta", "gamma", "kernel", "initial",
-            "t_end", "observe_every", "histogram", "majorant", "majorant_update", "steady_from"});
+            "t_end", "observe_every", "histogram", "majorant", "majorant_update", "moments",
+            "steady_from"});
   return c;
 }
 
@@ -140,6 +145,7 @@ void emit_dsmc(YAML::Emitter& out, const DsmcConfig& c) {
       << (c.majorant == MajorantKind::kPairwise ? "pairwise" : "global");
   out << YAML::Key << "majorant_update" << YAML::Value
       << (c.majorant_update == MajorantUpdate::kStrict ? "strict" : "paper");
+  out << YAML::Key << "moments" << YAML::Value << c.moments;
   if (c.steady) out << YAML::Key << "steady_from" << YAML::Value << format_real(c.steady_from);
   out << YAML::EndMap;
 }

@@ -116,8 +116,9 @@ std::uint64_t estimate_memory(const Config& config, unsigned threads) {
     const double shells = d.histogram.shells ? static_cast<double>(d.histogram.shells + 1) : 0;
     bytes += t * static_cast<double>(d.particles) * sizeof(Particle);
     if (d.majorant == MajorantKind::kPairwise) bytes += t * static_cast<double>(d.particles) * 8.0;
-    bytes += t * rows * (kNumScalars * 8.0 + shells * 8.0);      // per-ensemble observations
-    bytes += rows * kNumScalars * 2.0 * sizeof(ExactSum) * 2.0;  // accumulators and output copy
+    const double scalars = kNumScalars + d.moments;
+    bytes += t * rows * (scalars * 8.0 + shells * 8.0);      // per-ensemble observations
+    bytes += rows * scalars * 2.0 * sizeof(ExactSum) * 2.0;  // accumulators and output copy
     bytes += rows * shells * 24.0 * 2.0;
     bytes += static_cast<double>(config.last_ensemble() - config.first_ensemble()) * 200.0;
   } else {

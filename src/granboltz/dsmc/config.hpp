@@ -20,6 +20,9 @@ enum class MajorantKind { kGlobal, kPairwise };
 /// truncated kernel of RW05 eq. (19); strict: U_max := max(U_max, 2|v_i - V|, 2|v_j - V|).
 enum class MajorantUpdate { kPaper, kStrict };
 
+/// The most speed moments dsmc.moments may ask for: <|v - V|^{2p}>, p = 1..16.
+inline constexpr int kMaxMoments = 16;
+
 struct HistogramSpec {
   std::uint64_t shells = 0;  ///< K shells of width R/K plus one overflow shell; 0: no histogram
   double radius = 0.0;       ///< R
@@ -38,6 +41,7 @@ struct DsmcConfig {
   HistogramSpec histogram;
   MajorantKind majorant = MajorantKind::kGlobal;
   MajorantUpdate majorant_update = MajorantUpdate::kPaper;
+  int moments = 4;          ///< P: observe <|v - V|^{2p}> for p = 1..P (0 <= P <= kMaxMoments)
   bool steady = false;      ///< time averages over the observations with t > steady_from
   double steady_from = 0.0;
 

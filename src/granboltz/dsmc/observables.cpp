@@ -1,6 +1,7 @@
 #include "granboltz/dsmc/observables.hpp"
 
 #include <cmath>
+#include <stdexcept>
 
 namespace granboltz {
 
@@ -20,7 +21,12 @@ double crit(double temperature, const double* pressure, const double* heat_flux,
                    fourth_moment * fourth_moment / (120.0 * T * T)) / T;
 }
 
-Observation measure(std::span<const Particle> particles) {
+std::string moment_name(int p) { return "moment_" + std::to_string(2 * p); }
+
+Observation measure(std::span<const Particle> particles, std::span<double> moments) {
+  if (moments.size() > static_cast<std::size_t>(kMaxMoments))
+    throw std::logic_error("measure: more than kMaxMoments speed moments");
+  const std::size_t moment_count = moments.size();
   const double inv_n = 1.0 / static_cast<double>(particles.size());
   Vec3 m;
   for (const auto& q : particles) m += q.v;
@@ -29,6 +35,7 @@ Observation measure(std::span<const Particle> particles) {
   double cc[6] = {0, 0, 0, 0, 0, 0};  // xx, yy, zz, xy, xz, yz
   double flux[3] = {0, 0, 0};
   double c4 = 0.0;
+  double c2p[kMaxMoments] = {};  // sum |c|^{2p}, p = 1..moment_count
   for (const auto& q : particles) {
     const Vec3 c = q.v - V;
     const double c2 = norm2(c);
@@ -42,7 +49,13 @@ Observation measure(std::span<const Particle> particles) {
     flux[1] += c.y * c2;
     flux[2] += c.z * c2;
     c4 += c2 * c2;
+    double power = 1.0;
+    for (std::size_t k = 0; k < moment_count; ++k) {
+      power *= c2;
+      c2p[k] += power;
+    }
   }
+  for (std::size_t k = 0; k < moment_count; ++k) moments[k] = c2p[k] * inv_n;
   Observation o{};
   o[0] = 1.0;
   o[1] = V.x;

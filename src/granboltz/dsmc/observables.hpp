@@ -4,6 +4,7 @@
 #include <array>
 #include <cstdint>
 #include <span>
+#include <string>
 
 #include "granboltz/dsmc/config.hpp"
 #include "granboltz/dsmc/particles.hpp"
@@ -36,9 +37,17 @@ inline constexpr ObservableInfo kObservables[] = {
 
 inline int observable_size(const ObservableInfo& o) { return o.rank == 0 ? 1 : o.rank == 1 ? 3 : 9; }
 
+/// A speed moment may not exceed this, so that its square and the sum of squares over up to
+/// 10^8 ensembles stay finite doubles (the exact sums hold any finite double).
+inline constexpr double kMomentLimit = 1e150;
+/// "moment_<2p>": the dataset name of <|v - V|^{2p}>.
+std::string moment_name(int p);
+
 /// All moments of the empirical measure (1/n) sum delta_{v_j}, computed in two passes about the
-/// bulk velocity.
-Observation measure(std::span<const Particle> particles);
+/// bulk velocity. If `moments` is not empty (at most kMaxMoments entries), moments[p - 1] receives
+/// the speed moment <|v - V|^{2p}> = (1/n) sum_j |v_j - V|^{2p}, p = 1..moments.size(), summed in
+/// the second pass; the other observables do not depend on it.
+Observation measure(std::span<const Particle> particles, std::span<double> moments = {});
 
 /// Crit(t) of RW05 eq. (29) from the central moments.
 double crit(double temperature, const double* pressure, const double* heat_flux,

@@ -6,6 +6,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <stdexcept>
 
 #include "granboltz/dsmc/ensemble.hpp"
 #include "granboltz/dsmc/observables.hpp"
@@ -45,6 +46,10 @@ Record dsmc_layout(const Config& config) {
     r.declare_moments("steady", kNumScalars);
     r.declare_total("steady_samples");
   }
+  // The speed moments have sums of their own, so that the other sums keep their layout.
+  const auto P = static_cast<std::uint64_t>(d.moments);
+  if (P) r.declare_moments("moment_series", rows * P);
+  if (P && d.steady) r.declare_moments("moment_steady", P);
   for (const ColumnSpec& c : kColumns) r.declare_column(c.path, c.floating);
   return r;
 }
@@ -56,6 +61,7 @@ struct InProgress {
   std::unique_ptr<DsmcEnsemble> ensemble;
   std::uint64_t next = 0;              // the next observation index m
   std::vector<Observation> obs;        // [rows]
+  std::vector<double> moments;         // [rows * P]: <|v - V|^{2p}>, p = 1..P
   std::vector<std::uint64_t> hist;     // [rows * K1]
 };
 
@@ -67,6 +73,12 @@ void save_in_progress(H5Writer& out, std::uint64_t e, const InProgress& w) {
   std::vector<double> obs;
   for (std::uint64_t m = 0; m < w.next; ++m) obs.insert(obs.end(), w.obs[m].begin(), w.obs[m].end());
   out.write(g + "/observations", obs, {w.next, kNumScalars});
+  const std::uint64_t P = w.moments.size() / w.obs.size();
+  if (P)
+    out.write(g + "/moment_observations",
+              std::vector<double>(w.moments.begin(),
+                                  w.moments.begin() + static_cast<std::ptrdiff_t>(w.next * P)),
+              {w.next, P});
   out.write(g + "/histogram", w.hist, {w.hist.size()});
   out.attr(g, "next_observation", w.next);
 }
@@ -86,6 +98,15 @@ InProgress load_in_progress(const DsmcConfig& d, const H5Reader& in, std::uint64
   for (std::uint64_t m = 0; m < w.next; ++m)
     std::copy_n(obs.begin() + static_cast<std::ptrdiff_t>(m * kNumScalars), kNumScalars,
                 w.obs[m].begin());
+  const auto P = static_cast<std::uint64_t>(d.moments);
+  w.moments.assign(rows * P, 0.0);
+  if (P) {
+    const std::string path = g + "/moment_observations";
+    if (!in.exists(path) || in.dims(path) != Dims{w.next, P})
+      throw std::runtime_error(in.path() + ": malformed ensemble state " + g);
+    const auto moments = in.read_double(path);
+    std::copy(moments.begin(), moments.end(), w.moments.begin());
+  }
   return w;
 }
 
@@ -97,6 +118,7 @@ void run_dsmc(const Config& config, const DriverOptions& options, Record& record
   const std::uint64_t rows = times.size();
   const std::uint64_t K1 = d.histogram.shells ? d.histogram.shells + 1 : 0;
   const double steady_after = d.steady_from + 1e-9 * d.observe_every;
+  const auto P = static_cast<std::uint64_t>(d.moments);
 
   // Ensembles saved in progress by an interrupted run come first, then those not yet started.
   std::vector<std::uint64_t> todo, resumed;
@@ -165,6 +187,7 @@ void run_dsmc(const Config& config, const DriverOptions& options, Record& record
     } else {
       w.ensemble = std::make_unique<DsmcEnsemble>(d, config.seed, e, &slot);
       w.obs.resize(rows);
+      w.moments.assign(rows * P, 0.0);
       w.hist.assign(rows * K1, 0);
     }
     DsmcEnsemble& ensemble = *w.ensemble;
@@ -178,7 +201,7 @@ void run_dsmc(const Config& config, const DriverOptions& options, Record& record
           changed.wait(lock, [&] { return !pause.load(); });
           parked.erase(e);
         }
-      w.obs[m] = measure(ensemble.particles());
+      w.obs[m] = measure(ensemble.particles(), {w.moments.data() + m * P, P});
       if (K1) radial_histogram(ensemble.particles(), d.histogram, &w.hist[m * K1]);
     }
     // Exact sums: the order in which ensembles arrive here does not matter.
@@ -187,9 +210,26 @@ void run_dsmc(const Config& config, const DriverOptions& options, Record& record
     auto& series = record.moments("series");
     for (std::uint64_t m = 0; m < rows; ++m) {
       for (int k = 0; k < kNumScalars; ++k) series[m * kNumScalars + k].add(w.obs[m][k]);
+      const double* moments = w.moments.data() + m * P;
+      if (P) {
+        // After the other observables, so that a run overflowing anyway fails as before.
+        for (std::uint64_t k = 0; k < P; ++k)
+          if (!(std::fabs(moments[k]) <= kMomentLimit))
+            throw std::runtime_error(
+                "dsmc.moments = " + std::to_string(P) + ": " +
+                moment_name(static_cast<int>(k) + 1) + " = " + format_real(moments[k]) +
+                " at t = " + format_real(times[m]) + " in ensemble " + std::to_string(e) +
+                " exceeds 1e150 (its square would overflow); ask for fewer moments");
+        auto& mseries = record.moments("moment_series");
+        for (std::uint64_t k = 0; k < P; ++k) mseries[m * P + k].add(moments[k]);
+      }
       if (d.steady && times[m] > steady_after) {
         auto& steady = record.moments("steady");
         for (int k = 0; k < kNumScalars; ++k) steady[k].add(w.obs[m][k]);
+        if (P) {
+          auto& msteady = record.moments("moment_steady");
+          for (std::uint64_t k = 0; k < P; ++k) msteady[k].add(moments[k]);
+        }
         ++record.total("steady_samples");
       }
     }
@@ -208,25 +248,46 @@ Dims shape_of(const ObservableInfo& o, std::uint64_t rows) {
   return {rows, 3, 3};
 }
 
+/// Writes mean, ci and variance of observable `o` from sums laid out as [rows][stride].
+void write_observable(H5Writer& out, const std::string& prefix, const ObservableInfo& o,
+                      const std::vector<Moments2>& sums, std::uint64_t stride, std::uint64_t rows,
+                      std::uint64_t samples, bool scalar_rows) {
+  const int size = observable_size(o);
+  std::vector<double> mean, ci, var;
+  for (std::uint64_t m = 0; m < rows; ++m)
+    for (int k = 0; k < size; ++k) {
+      const MeanCi s = sums[m * stride + o.offset + k].stats(samples);
+      mean.push_back(s.mean);
+      ci.push_back(s.ci);
+      var.push_back(s.variance);
+    }
+  Dims dims = shape_of(o, rows);
+  if (scalar_rows) dims.erase(dims.begin());
+  const std::string g = prefix + "/" + o.name;
+  out.write(g + "/mean", mean, dims);
+  out.write(g + "/ci", ci, dims);
+  out.write(g + "/variance", var, dims);
+  out.attr(g, "description", std::string(o.description));
+}
+
 void write_moments(H5Writer& out, const std::string& prefix, const std::vector<Moments2>& sums,
                    std::uint64_t rows, std::uint64_t samples, bool scalar_rows) {
-  for (const auto& o : kObservables) {
-    const int size = observable_size(o);
-    std::vector<double> mean, ci, var;
-    for (std::uint64_t m = 0; m < rows; ++m)
-      for (int k = 0; k < size; ++k) {
-        const MeanCi s = sums[m * kNumScalars + o.offset + k].stats(samples);
-        mean.push_back(s.mean);
-        ci.push_back(s.ci);
-        var.push_back(s.variance);
-      }
-    Dims dims = shape_of(o, rows);
-    if (scalar_rows) dims.erase(dims.begin());
-    const std::string g = prefix + "/" + o.name;
-    out.write(g + "/mean", mean, dims);
-    out.write(g + "/ci", ci, dims);
-    out.write(g + "/variance", var, dims);
-    out.attr(g, "description", std::string(o.description));
+  for (const auto& o : kObservables)
+    write_observable(out, prefix, o, sums, kNumScalars, rows, samples, scalar_rows);
+}
+
+/// The speed moments moment_2 ... moment_2P, from sums laid out as [rows][P].
+void write_speed_moments(H5Writer& out, const std::string& prefix,
+                         const std::vector<Moments2>& sums, std::uint64_t P, std::uint64_t rows,
+                         std::uint64_t samples, bool scalar_rows) {
+  for (std::uint64_t k = 0; k < P; ++k) {
+    const int p = static_cast<int>(k) + 1;
+    const std::string name = moment_name(p);
+    const std::string description = "<|v - V|^" + std::to_string(2 * p) +
+                                    ">: the central speed moment of order " +
+                                    std::to_string(2 * p) + " (dsmc.moments)";
+    const ObservableInfo o{name.c_str(), static_cast<int>(k), 0, description.c_str()};
+    write_observable(out, prefix, o, sums, P, rows, samples, scalar_rows);
   }
 }
 
@@ -238,6 +299,8 @@ void present_dsmc(H5Writer& out, const Config& config, const Record& record) {
   const std::uint64_t rows = times.size(), N = record.ensembles();
   out.write("/time", times, {rows});
   write_moments(out, "", record.moments("series"), rows, N, false);
+  const auto P = static_cast<std::uint64_t>(d.moments);
+  if (P) write_speed_moments(out, "", record.moments("moment_series"), P, rows, N, false);
   out.attr("/", "confidence_lambda_p", kLambdaP);
 
   if (d.histogram.shells) {
@@ -265,6 +328,8 @@ void present_dsmc(H5Writer& out, const Config& config, const Record& record) {
   if (d.steady) {
     const std::uint64_t samples = record.total("steady_samples");
     write_moments(out, "/steady", record.moments("steady"), 1, samples, true);
+    if (P)
+      write_speed_moments(out, "/steady", record.moments("moment_steady"), P, 1, samples, true);
     out.attr("/steady", "samples", samples);
     out.attr("/steady", "from", d.steady_from);
   }
