@@ -57,6 +57,9 @@ void merge_outputs(const std::vector<std::string>& inputs, const std::string& ou
       part.read(in);
       record.merge(part);
     } catch (const std::runtime_error& e) {
+      // A damaged file (checksum, truncation) is an I/O error naming itself; anything else
+      // (overlapping shards) is a wrong input.
+      if (std::string(e.what()).rfind(inputs[i] + ": ", 0) == 0) throw;
       throw ConfigError(inputs[i] + ": " + e.what());
     }
   }
