@@ -7,9 +7,9 @@
 // candidates at the majorant rate 2 pi gamma C (n-1) U_max^lambda (U_max from the extreme value
 // of the velocities the update sees) or 4 pi gamma C (n-1) E|v-V|^lambda (pairwise); kicks 2 per
 // candidate plus n per observation (no-splitting) or n per time step (splitting). TV06: the
-// collisions are the config's; the fictitious candidates follow from the needle's rate bound
-// Phi(|v1|, omega) against Phi(v_n, omega), and from omega_max against phi(v1) for the DSMC
-// intruder. Wall time: events times a per-event cost measured on this machine (make bench).
+// collisions are the config's (warm-up included); the fictitious candidates from omega_max
+// against <phi(v1)> for the DSMC intruder, and for the needle's thinning (bound Phi(|v1|, omega)
+// against Phi(v_n, omega)) from a pilot ensemble of at most 20 000 collisions. Wall time: events times a per-event cost measured on this machine (make bench).
 #include <cstdint>
 #include <string>
 
