@@ -162,10 +162,10 @@ double intruder_dsmc_candidates(const IntruderConfig& c, double collisions) {
       tail.emplace_back(x, p);
       if (x < 1e-3 * scale) break;
     }
-    auto T = [&](double y) {  // P(|v| > y), y >= 0, interpolated in the table
-      for (std::size_t k = 1; k < tail.size(); ++k)
-        if (tail[k].first <= y) return tail[k].second;
-      return 1.0;
+    auto T = [&](double y) {  // P(|v| > y), y >= 0: the first entry at or below y (x decreases)
+      const auto it = std::lower_bound(tail.begin(), tail.end(), y,
+                                       [](const auto& e, double v) { return e.first > v; });
+      return it == tail.end() ? 1.0 : it->second;
     };
     auto above = [&](double y) { return y >= 0 ? 0.5 * T(y) : 1.0 - 0.5 * T(-y); };  // P(v > y)
     // P(|v - v1| > x) for v1 ~ N(0, s1^2), then its 1 - 1/N quantile by bisection.
