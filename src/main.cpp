@@ -72,7 +72,8 @@ int main(int argc, char** argv) {
   // Command-line errors are one line on stderr with exit code 2, like config errors; --help and
   // --version keep CLI11's output and exit code 0.
   if (argc == 1) {
-    std::fprintf(stderr, "granboltz: error: a command is required: run, estimate, validate or merge "
+    std::fprintf(stderr,
+                 "granboltz: error: a command is required: run, estimate, validate or merge "
                  "(see granboltz --help)\n");
     return 2;
   }
@@ -90,7 +91,8 @@ int main(int argc, char** argv) {
     if (command != "run" && command != "estimate" && command != "validate" &&
         command != "merge") {
       std::fprintf(stderr,
-                   "granboltz: error: %s: unknown command; expected run, estimate, validate or merge"
+                   "granboltz: error: %s: unknown command; expected run, estimate, validate or "
+                   "merge"
                    " (see granboltz --help)\n",
                    argv[1]);
       return 2;
@@ -138,7 +140,8 @@ int main(int argc, char** argv) {
                    max_hours, granboltz::describe(cost).c_str());
       return 2;
     }
-    if (!quiet) std::fprintf(stderr, "[granboltz] estimate: %s\n", granboltz::describe(cost).c_str());
+    if (!quiet)
+      std::fprintf(stderr, "[granboltz] estimate: %s\n", granboltz::describe(cost).c_str());
     granboltz::DriverOptions options;
     options.threads = config.threads;
     options.progress = !quiet;

@@ -106,8 +106,8 @@ TEST(Estimate, DsmcEventsAreWithinTenPercentOfCountedForEverySchemeAndMajorant) 
 TEST(Estimate, Tv06EventsAreWithinTenPercentOfCounted) {
   expect_estimate_matches(kIntruder, {});
   expect_estimate_matches(kIntruder, {"intruder.method=dsmc"});
-  expect_estimate_matches(kIntruder, {"intruder.method=dsmc", "intruder.mass=5",
-                                      "intruder.alpha=0.9"});
+  expect_estimate_matches(kIntruder,
+                          {"intruder.method=dsmc", "intruder.mass=5", "intruder.alpha=0.9"});
   expect_estimate_matches(kNeedle, {});
   expect_estimate_matches(kNeedle, {"needle.mass=5", "needle.alpha=0.9"});
   expect_estimate_matches(kNeedle, {"needle.length=3", "seed=5"});

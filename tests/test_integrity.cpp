@@ -89,8 +89,8 @@ std::string read_all(const std::string& file) {
 
 // Runs granboltz under `sh -c "ulimit -f KIB; exec granboltz ARGS"`: writes past KIB KiB fail.
 CommandResult run_limited(int kib, const std::string& args) {
-  const std::string cmd = "ulimit -f " + std::to_string(kib) + "; exec " + GRANBOLTZ_BINARY +
-                          " " + args + " 2>&1";
+  const std::string cmd =
+      "ulimit -f " + std::to_string(kib) + "; exec " + GRANBOLTZ_BINARY + " " + args + " 2>&1";
   FILE* pipe = ::popen(cmd.c_str(), "r");
   std::string out;
   char buf[4096];
@@ -171,8 +171,8 @@ TEST(Checksums, EveryDatasetWithDataIsChecksummedAndScalarsAreCompact) {
       for (int k = 0; k < H5Pget_nfilters(dcpl); ++k) {
         unsigned flags = 0;
         std::size_t n = 0;
-        fletcher |= H5Pget_filter2(dcpl, static_cast<unsigned>(k), &flags, &n, nullptr, 0,
-                                   nullptr, nullptr) == H5Z_FILTER_FLETCHER32;
+        fletcher |= H5Pget_filter2(dcpl, static_cast<unsigned>(k), &flags, &n, nullptr, 0, nullptr,
+                                   nullptr) == H5Z_FILTER_FLETCHER32;
       }
       EXPECT_TRUE(fletcher) << name;
     }

@@ -105,7 +105,8 @@ DsmcEvents dsmc_events(const DsmcConfig& d) {
     // U_max follows the largest |v - V| the update has seen: n initial velocities plus two new
     // ones per collision, Maxwellian at the highest temperature reached so far.
     if (!pairwise && lambda > 0.0)
-      u_max = std::max(u_max, factor * std::sqrt(T_peak) * chi3_expected_max(n + 2.0 * e.collisions));
+      u_max =
+          std::max(u_max, factor * std::sqrt(T_peak) * chi3_expected_max(n + 2.0 * e.collisions));
     e.candidates += 0.5 * h * (c0 + candidate_rate(T));
   }
   e.candidates = std::max(e.candidates, e.collisions);
@@ -137,8 +138,8 @@ double needle_fictitious_per_collision(const NeedleConfig& c) {
 }
 
 // Candidates of the DSMC intruder (TV06 §4): omega_max = 2 rho max|v_i - v1| (the 1 - 1/N quantile
-// of |v - v1|) over the bath velocities drawn so far (n, plus one per candidate with the `tested` refresh) against the mean
-// collision rate <phi(v1)>, v1 Maxwellian at the intruder's temperature.
+// of |v - v1|) over the bath velocities drawn so far (n, plus one per candidate with the `tested`
+// refresh) against the mean collision rate <phi(v1)>, v1 Maxwellian at the intruder's temperature.
 double intruder_dsmc_candidates(const IntruderConfig& c, double collisions) {
   double ratio = 1.0;
   tv06::intruder_exact_temperature_ratio(c, &ratio);
@@ -197,9 +198,8 @@ double intruder_dsmc_candidates(const IntruderConfig& c, double collisions) {
     }
     return candidates;
   };
-  return c.bath.kind == BathKind::kGaussian
-             ? body(tv06::gaussian_bath(c.bath.a, c.density))
-             : body(tv06::power_law_bath(c.bath.a, c.density));
+  return c.bath.kind == BathKind::kGaussian ? body(tv06::gaussian_bath(c.bath.a, c.density))
+                                            : body(tv06::power_law_bath(c.bath.a, c.density));
 }
 
 std::string human_bytes(double b) {
@@ -216,10 +216,14 @@ std::string human_bytes(double b) {
 
 std::string human_seconds(double s) {
   char buf[32];
-  if (s < 120) std::snprintf(buf, sizeof buf, "%.2g s", s);
-  else if (s < 7200) std::snprintf(buf, sizeof buf, "%.1f min", s / 60);
-  else if (s < 3 * 86400) std::snprintf(buf, sizeof buf, "%.1f h", s / 3600);
-  else std::snprintf(buf, sizeof buf, "%.1f days", s / 86400);
+  if (s < 120)
+    std::snprintf(buf, sizeof buf, "%.2g s", s);
+  else if (s < 7200)
+    std::snprintf(buf, sizeof buf, "%.1f min", s / 60);
+  else if (s < 3 * 86400)
+    std::snprintf(buf, sizeof buf, "%.1f h", s / 3600);
+  else
+    std::snprintf(buf, sizeof buf, "%.1f days", s / 86400);
   return buf;
 }
 

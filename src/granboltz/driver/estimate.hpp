@@ -9,7 +9,8 @@
 // candidate plus n per observation (no-splitting) or n per time step (splitting). TV06: the
 // collisions are the config's (warm-up included); the fictitious candidates from omega_max
 // against <phi(v1)> for the DSMC intruder, and for the needle's thinning (bound Phi(|v1|, omega)
-// against Phi(v_n, omega)) from a pilot ensemble of at most 20 000 collisions. Wall time: events times a per-event cost measured on this machine (make bench).
+// against Phi(v_n, omega)) from a pilot ensemble of at most 20 000 collisions. Wall time: events
+// times a per-event cost measured on this machine (make bench).
 #include <cstdint>
 #include <string>
 

@@ -255,7 +255,8 @@ bool H5Reader::exists(const std::string& path) const {
 hid_t H5Reader::open_dataset(const std::string& path) const {
   const hid_t ds = H5Dopen2(file_, path.c_str(), H5P_DEFAULT);
   if (ds < 0) {
-    if (checksum_failed()) fail(path_ + ": checksum mismatch in dataset " + path + " (corrupt file)");
+    if (checksum_failed())
+      fail(path_ + ": checksum mismatch in dataset " + path + " (corrupt file)");
     fail(path_ + ": missing dataset " + path);
   }
   return ds;
