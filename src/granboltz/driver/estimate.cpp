@@ -171,12 +171,12 @@ double intruder_dsmc_candidates(const IntruderConfig& c, double collisions) {
     auto above = [&](double y) { return y >= 0 ? 0.5 * T(y) : 1.0 - 0.5 * T(-y); };  // P(v > y)
     // P(|v - v1| > x) for v1 ~ N(0, s1^2), then its 1 - 1/N quantile by bisection.
     auto diff_tail = [&](double x) {
-      double p = 0.0;
+      double sum = 0.0;
       for (int k = -24; k <= 24; ++k) {
         const double z = 0.25 * k, w = 0.25 * std::exp(-0.5 * z * z) / std::sqrt(2 * M_PI);
-        p += w * (above(x + z * s1) + above(x - z * s1));
+        sum += w * (above(x + z * s1) + above(x - z * s1));
       }
-      return p;
+      return sum;
     };
     auto quantile = [&](double N) {
       double lo = 0.0, hi = tail.front().first;
