@@ -9,6 +9,7 @@
 
 #include "granboltz/config/config.hpp"
 #include "granboltz/io/merge.hpp"
+#include "granboltz/driver/estimate.hpp"
 #include "granboltz/driver/run.hpp"
 #include "granboltz/version.hpp"
 
@@ -40,6 +41,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> sets, inputs;
   unsigned threads = 0;
   bool quiet = false;
+  double max_hours = 0.0;
 
   auto* run = app.add_subcommand("run", "run a config and write its HDF5 output");
   run->add_option("config", config_path, "run config (YAML)")->required();
@@ -48,6 +50,16 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0u, 1024u));
   run->add_option("--set", sets, "override a config key: --set dsmc.particles=1024");
   run->add_flag("-q,--quiet", quiet, "no progress reports");
+  run->add_option("--max-hours", max_hours,
+                  "refuse the run if its estimated wall time exceeds this (default: no limit)")
+      ->check(CLI::PositiveNumber);
+
+  auto* estimate = app.add_subcommand(
+      "estimate", "print the expected events, peak memory and wall time of a run");
+  estimate->add_option("config", config_path, "run config (YAML)")->required();
+  estimate->add_option("--set", sets, "override a config key");
+  estimate->add_option("--threads", threads, "worker threads (0: all cores)")
+      ->check(CLI::Range(0u, 1024u));
 
   auto* validate = app.add_subcommand("validate", "check a config and print it in full");
   validate->add_option("config", config_path, "run config (YAML)")->required();
@@ -60,7 +72,8 @@ int main(int argc, char** argv) {
   // Command-line errors are one line on stderr with exit code 2, like config errors; --help and
   // --version keep CLI11's output and exit code 0.
   if (argc == 1) {
-    std::fprintf(stderr, "granboltz: error: a command is required: run, validate or merge "
+    std::fprintf(stderr,
+                 "granboltz: error: a command is required: run, estimate, validate or merge "
                  "(see granboltz --help)\n");
     return 2;
   }
@@ -68,16 +81,18 @@ int main(int argc, char** argv) {
     const std::string option = argv[1];
     if (option != "-h" && option != "--help" && option != "--version") {
       std::fprintf(stderr,
-                   "granboltz: error: %s: unknown option; expected a command: run, validate "
-                   "or merge (see granboltz --help)\n",
+                   "granboltz: error: %s: unknown option; expected a command: run, estimate, "
+                   "validate or merge (see granboltz --help)\n",
                    argv[1]);
       return 2;
     }
   } else {
     const std::string command = argv[1];
-    if (command != "run" && command != "validate" && command != "merge") {
+    if (command != "run" && command != "estimate" && command != "validate" &&
+        command != "merge") {
       std::fprintf(stderr,
-                   "granboltz: error: %s: unknown command; expected run, validate or merge"
+                   "granboltz: error: %s: unknown command; expected run, estimate, validate or "
+                   "merge"
                    " (see granboltz --help)\n",
                    argv[1]);
       return 2;
@@ -101,6 +116,9 @@ int main(int argc, char** argv) {
 
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
+  // Past `ulimit -f` a write fails with EFBIG and is reported like a full disk, instead of the
+  // process being killed with the temporary file left behind.
+  std::signal(SIGXFSZ, SIG_IGN);
   try {
     if (*merge) {
       granboltz::merge_outputs(inputs, output);
@@ -111,7 +129,19 @@ int main(int argc, char** argv) {
       std::cout << config.to_yaml(false);
       return 0;
     }
-    if (run->count("--threads")) config.threads = threads;
+    if (run->count("--threads") || estimate->count("--threads")) config.threads = threads;
+    const granboltz::RunEstimate cost = granboltz::estimate_run(config, config.threads);
+    if (*estimate) {
+      std::cout << granboltz::describe(cost) << "\n";
+      return 0;
+    }
+    if (max_hours > 0 && cost.seconds > 3600.0 * max_hours) {
+      std::fprintf(stderr, "granboltz: error: --max-hours %g: the run would take longer: %s\n",
+                   max_hours, granboltz::describe(cost).c_str());
+      return 2;
+    }
+    if (!quiet)
+      std::fprintf(stderr, "[granboltz] estimate: %s\n", granboltz::describe(cost).c_str());
     granboltz::DriverOptions options;
     options.threads = config.threads;
     options.progress = !quiet;

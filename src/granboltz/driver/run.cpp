@@ -121,6 +121,10 @@ std::uint64_t estimate_memory(const Config& config, unsigned threads) {
     bytes += rows * scalars * 2.0 * sizeof(ExactSum) * 2.0;  // accumulators and output copy
     bytes += rows * shells * 24.0 * 2.0;
     bytes += static_cast<double>(config.last_ensemble() - config.first_ensemble()) * 200.0;
+    // A checkpoint is built in memory (io/hdf5_io.cpp): 32 bytes per particle in progress, and
+    // a copy while it is written out.
+    if (config.checkpoint.every_seconds > 0)
+      bytes += 2.0 * t * static_cast<double>(d.particles) * 32.0;
   } else {
     bytes += tv06_memory_estimate(config, threads);
   }

@@ -1,6 +1,10 @@
 #include "granboltz/io/hdf5_io.hpp"
 
+#include <fcntl.h>
 #include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
 
 #include <cstdio>
 #include <filesystem>
@@ -17,6 +21,34 @@ struct SilenceHdf5 {
 const SilenceHdf5 kSilence;
 
 [[noreturn]] void fail(const std::string& what) { throw std::runtime_error(what); }
+
+// True if the current HDF5 error stack reports a checksum mismatch (Fletcher32 on chunks, or the
+// metadata checksums of object headers), so that the message can say so.
+bool checksum_failed() {
+  bool found = false;
+  auto visit = [](unsigned, const H5E_error2_t* e, void* data) -> herr_t {
+    const std::string desc = e->desc ? e->desc : "";
+    if (desc.find("checksum") != std::string::npos || desc.find("Fletcher32") != std::string::npos)
+      *static_cast<bool*>(data) = true;
+    return 0;
+  };
+  H5Ewalk2(H5E_DEFAULT, H5E_WALK_DOWNWARD, visit, &found);
+  return found;
+}
+
+// HDF5's metadata checksum (Jenkins lookup3), exported by the library though not in its headers.
+extern "C" uint32_t H5_checksum_metadata(const void* data, size_t len, uint32_t initval);
+
+// H5Fget_file_image (HDF5 1.10.8) clears the "open for writing" flag in the image's superblock
+// (version 2 or 3) without updating the superblock's checksum, so that the file would not open
+// ("incorrect metadata checksum"). Recomputes that checksum.
+void fix_superblock_checksum(std::vector<unsigned char>& image) {
+  if (image.size() < 12 || image[8] < 2) return;  // superblocks 0 and 1 have no checksum
+  const std::size_t end = 12 + 4 * static_cast<std::size_t>(image[9]);  // 4 addresses
+  if (image.size() < end + 4) return;
+  const std::uint32_t sum = H5_checksum_metadata(image.data(), end, 0);
+  for (int k = 0; k < 4; ++k) image[end + k] = static_cast<unsigned char>(sum >> (8 * k));
+}
 
 hsize_t product(const Dims& dims) {
   hsize_t n = 1;
@@ -41,15 +73,35 @@ H5Writer::H5Writer(const std::string& path)
   std::error_code ec;
   if (path.back() == '/' || std::filesystem::is_directory(path, ec))
     fail(path + ": is a directory; give the output file's name");
-  file_ = H5Fcreate(tmp_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-  if (file_ < 0) fail(path + ": cannot create output file (is the directory writable?)");
+  fd_ = ::open(tmp_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd_ < 0)
+    fail(path + ": cannot create output file (" + std::strerror(errno) +
+         "; does the directory exist and is it writable?)");
+  // The file is built in memory (HDF5's core driver, no backing store) and written out by
+  // commit() alone. HDF5 then never meets a failing write: after one, HDF5 1.10 cannot close the
+  // file, and its exit handler crashes on the half-closed file (SIGSEGV on a full disk).
+  Handle fapl{H5Pcreate(H5P_FILE_ACCESS), H5Pclose};
+  H5Pset_fapl_core(fapl.id, 1 << 20, 0);
+  // Version-2 object headers carry a checksum: it covers the attributes and the compact
+  // (scalar) datasets, which Fletcher32 cannot (it needs chunks). HDF5 1.10 format.
+  H5Pset_libver_bounds(fapl.id, H5F_LIBVER_V110, H5F_LIBVER_V110);
+  file_ = H5Fcreate(tmp_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.id);
+  if (file_ < 0) {
+    discard();
+    fail(path + ": cannot create the HDF5 file in memory");
+  }
 }
 
-H5Writer::~H5Writer() {
-  if (file_ >= 0) {
-    H5Fclose(file_);
-    std::remove(tmp_.c_str());
+H5Writer::~H5Writer() { discard(); }
+
+void H5Writer::discard() {
+  if (file_ >= 0) H5Fclose(file_);  // in memory: nothing to flush, cannot fail on the disk
+  file_ = -1;
+  if (fd_ >= 0) {
+    ::close(fd_);
+    ::unlink(tmp_.c_str());
   }
+  fd_ = -1;
 }
 
 void H5Writer::group(const std::string& path) {
@@ -68,8 +120,13 @@ void H5Writer::write_raw(const std::string& path, hid_t mem_type, hid_t file_typ
   Handle lcpl{H5Pcreate(H5P_LINK_CREATE), H5Pclose};
   H5Pset_create_intermediate_group(lcpl.id, 1);
   Handle dcpl{H5Pcreate(H5P_DATASET_CREATE), H5Pclose};
-  // Large datasets are chunked and compressed; small ones stay contiguous.
-  if (!dims.empty() && product(dims) >= 4096) {
+  if (dims.empty()) {
+    // A scalar cannot be chunked, so Fletcher32 cannot cover it: stored compact, inside its
+    // object header, whose own checksum covers it (version-2 headers, see the constructor).
+    H5Pset_layout(dcpl.id, H5D_COMPACT);
+  } else if (product(dims) > 0) {
+    // Every other dataset is chunked (at most 64 Ki elements a chunk) and checksummed with
+    // Fletcher32; large ones are also compressed. Empty datasets hold no data to check.
     Dims chunk = dims;
     hsize_t total = product(chunk);
     for (std::size_t k = 0; k < chunk.size() && total > 65536; ++k) {
@@ -78,7 +135,8 @@ void H5Writer::write_raw(const std::string& path, hid_t mem_type, hid_t file_typ
       total *= chunk[k];
     }
     H5Pset_chunk(dcpl.id, static_cast<int>(chunk.size()), chunk.data());
-    H5Pset_deflate(dcpl.id, 4);
+    if (product(dims) >= 4096) H5Pset_deflate(dcpl.id, 4);
+    H5Pset_fletcher32(dcpl.id);  // after deflate: the checksum is of the stored bytes
   }
   Handle ds{H5Dcreate2(file_, path.c_str(), file_type, space.id, lcpl.id, dcpl.id, H5P_DEFAULT),
             H5Dclose};
@@ -134,15 +192,41 @@ void H5Writer::attr(const std::string& object, const std::string& name, std::uin
 }
 
 void H5Writer::commit() {
-  if (H5Fclose(file_) < 0) {
-    file_ = -1;
-    std::remove(tmp_.c_str());
-    fail(path_ + ": cannot finish writing the output file");
+  // The image of the finished file, then the bytes to disk with every error checked (ENOSPC,
+  // EFBIG under ulimit -f with SIGXFSZ ignored, EIO), then fsync and the atomic rename.
+  // Flushed first: H5Fget_file_image alone leaves the superblock's end-of-file address stale.
+  const ssize_t size =
+      H5Fflush(file_, H5F_SCOPE_LOCAL) < 0 ? -1 : H5Fget_file_image(file_, nullptr, 0);
+  std::vector<unsigned char> image(size > 0 ? static_cast<std::size_t>(size) : 0);
+  if (size <= 0 || H5Fget_file_image(file_, image.data(), image.size()) != size) {
+    discard();
+    fail(path_ + ": cannot finish the HDF5 file");
   }
+  H5Fclose(file_);
   file_ = -1;
+  fix_superblock_checksum(image);
+  std::size_t done = 0;
+  while (done < image.size()) {
+    const ssize_t n = ::write(fd_, image.data() + done, image.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const std::string why = n < 0 ? std::strerror(errno) : "short write";
+      discard();
+      fail(path_ + ": cannot write the file (" + why + "); nothing was written to " + path_);
+    }
+    done += static_cast<std::size_t>(n);
+  }
+  const int fd = fd_;
+  fd_ = -1;
+  if (::fsync(fd) != 0 || ::close(fd) != 0) {
+    const std::string why = std::strerror(errno);
+    ::unlink(tmp_.c_str());
+    fail(path_ + ": cannot write the file (" + why + "); nothing was written to " + path_);
+  }
   if (std::rename(tmp_.c_str(), path_.c_str()) != 0) {
-    std::remove(tmp_.c_str());
-    fail(path_ + ": cannot move the finished output into place");
+    const std::string why = std::strerror(errno);
+    ::unlink(tmp_.c_str());
+    fail(path_ + ": cannot move the finished file into place (" + why + ")");
   }
 }
 
@@ -168,9 +252,24 @@ bool H5Reader::exists(const std::string& path) const {
   return H5Lexists(file_, path.c_str(), H5P_DEFAULT) > 0;
 }
 
+hid_t H5Reader::open_dataset(const std::string& path) const {
+  const hid_t ds = H5Dopen2(file_, path.c_str(), H5P_DEFAULT);
+  if (ds < 0) {
+    if (checksum_failed())
+      fail(path_ + ": checksum mismatch in dataset " + path + " (corrupt file)");
+    fail(path_ + ": missing dataset " + path);
+  }
+  return ds;
+}
+
+void H5Reader::read_checked(hid_t ds, const std::string& path, hid_t mem_type, void* out) const {
+  if (H5Dread(ds, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out) >= 0) return;
+  if (checksum_failed()) fail(path_ + ": checksum mismatch in dataset " + path + " (corrupt file)");
+  fail(path_ + ": cannot read dataset " + path + " (corrupt or truncated file?)");
+}
+
 Dims H5Reader::dims(const std::string& path) const {
-  Handle ds{H5Dopen2(file_, path.c_str(), H5P_DEFAULT), H5Dclose};
-  if (ds.id < 0) fail(path_ + ": missing dataset " + path);
+  Handle ds{open_dataset(path), H5Dclose};
   Handle space{H5Dget_space(ds.id), H5Sclose};
   const int rank = H5Sget_simple_extent_ndims(space.id);
   if (rank < 0) fail(path_ + ": unreadable dataset " + path);
@@ -181,10 +280,8 @@ Dims H5Reader::dims(const std::string& path) const {
 
 void H5Reader::read_raw(const std::string& path, hid_t mem_type, void* out,
                         std::size_t count) const {
-  Handle ds{H5Dopen2(file_, path.c_str(), H5P_DEFAULT), H5Dclose};
-  if (ds.id < 0) fail(path_ + ": missing dataset " + path);
-  if (count > 0 && H5Dread(ds.id, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out) < 0)
-    fail(path_ + ": cannot read dataset " + path + " (corrupt or truncated file?)");
+  Handle ds{open_dataset(path), H5Dclose};
+  if (count > 0) read_checked(ds.id, path, mem_type, out);
 }
 
 std::vector<double> H5Reader::read_double(const std::string& path) const {
@@ -204,12 +301,10 @@ std::vector<std::int64_t> H5Reader::read_int64(const std::string& path) const {
 }
 
 std::vector<unsigned char> H5Reader::read_bytes(const std::string& path) const {
-  Handle ds{H5Dopen2(file_, path.c_str(), H5P_DEFAULT), H5Dclose};
-  if (ds.id < 0) fail(path_ + ": missing dataset " + path);
+  Handle ds{open_dataset(path), H5Dclose};
   Handle type{H5Dget_type(ds.id), H5Tclose};
   std::vector<unsigned char> v(product(dims(path)) * H5Tget_size(type.id));
-  if (!v.empty() && H5Dread(ds.id, type.id, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()) < 0)
-    fail(path_ + ": cannot read dataset " + path);
+  if (!v.empty()) read_checked(ds.id, path, type.id, v.data());
   return v;
 }
 

@@ -1,6 +1,8 @@
 #pragma once
-// Minimal HDF5 output and input. An output file is written under a temporary name and renamed
-// into place only when complete, so that an interrupted run never leaves a file that looks done.
+// Minimal HDF5 output and input. An output file is built in memory, written under a temporary
+// name and renamed into place only when complete, so that an interrupted run or a full disk never
+// leaves a file that looks done. Every dataset is checksummed (Fletcher32 on chunks; scalars by
+// their object header's checksum) and a reader names the file and dataset whose check fails.
 #include <hdf5.h>
 
 #include <cstdint>
@@ -29,15 +31,18 @@ class H5Writer {
   void attr(const std::string& object, const std::string& name, double value);
   void attr(const std::string& object, const std::string& name, std::uint64_t value);
 
-  /// Closes the file and renames it to its final path.
+  /// Writes the file to disk and renames it to its final path; on any error (full disk, size
+  /// limit) removes the temporary file and throws a one-line message naming the path.
   void commit();
   const std::string& temp_path() const { return tmp_; }
 
  private:
   void write_raw(const std::string& path, hid_t mem_type, hid_t file_type, const void* data,
                  const Dims& dims);
+  void discard();  // closes everything and removes the temporary file
   std::string path_, tmp_;
   hid_t file_ = -1;
+  int fd_ = -1;  // the temporary file, created at once so that a bad path fails early
 };
 
 class H5Reader {
@@ -63,6 +68,8 @@ class H5Reader {
 
  private:
   void read_raw(const std::string& path, hid_t mem_type, void* out, std::size_t count) const;
+  hid_t open_dataset(const std::string& path) const;  // throws naming a checksum mismatch
+  void read_checked(hid_t ds, const std::string& path, hid_t mem_type, void* out) const;
   std::string path_;
   hid_t file_ = -1;
 };

@@ -2,13 +2,36 @@
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 
 #include "granboltz/io/output.hpp"
 
 namespace granboltz {
 
+namespace {
+
+// Refuses, before anything is read or written, an output that is one of the inputs (by any path:
+// a symlink, a hard link, ./x) or that lies in a directory that does not exist.
+void check_merge_output(const std::vector<std::string>& inputs, const std::string& output) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path out(output);
+  const fs::path dir = out.has_parent_path() ? out.parent_path() : fs::path(".");
+  if (!fs::is_directory(dir, ec))
+    throw ConfigError("merge: -o " + output + ": directory " + dir.string() +
+                      " does not exist; create it first");
+  if (!fs::exists(out, ec)) return;
+  for (const auto& in : inputs)
+    if (fs::equivalent(out, in, ec))
+      throw ConfigError("merge: -o " + output + " is the input " + in +
+                        "; the merged output must be a new file");
+}
+
+}  // namespace
+
 void merge_outputs(const std::vector<std::string>& inputs, const std::string& output) {
   if (inputs.empty()) throw ConfigError("merge: no input files");
+  check_merge_output(inputs, output);
   std::string config_text, version;
   Config config;
   Record record;
@@ -34,6 +57,9 @@ void merge_outputs(const std::vector<std::string>& inputs, const std::string& ou
       part.read(in);
       record.merge(part);
     } catch (const std::runtime_error& e) {
+      // A damaged file (checksum, truncation) is an I/O error naming itself; anything else
+      // (overlapping shards) is a wrong input.
+      if (std::string(e.what()).rfind(inputs[i] + ": ", 0) == 0) throw;
       throw ConfigError(inputs[i] + ": " + e.what());
     }
   }

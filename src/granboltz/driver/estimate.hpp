@@ -1,0 +1,38 @@
+#pragma once
+// The cost of a run before it starts: expected events, peak memory and wall time on this machine.
+//
+// Events come from the rates the engines use. DSMC (RW05 §4.2 effort model): real collisions at
+// the rate 2 pi gamma C (n-1) E|u|^lambda of a Maxwellian whose temperature follows the
+// moment equation dT/dt = 2 beta - (pi gamma C (1 - alpha^2)(n-1)/6n) E|u|^(2+lambda);
+// candidates at the majorant rate 2 pi gamma C (n-1) U_max^lambda (U_max from the extreme value
+// of the velocities the update sees) or 4 pi gamma C (n-1) E|v-V|^lambda (pairwise); kicks 2 per
+// candidate plus n per observation (no-splitting) or n per time step (splitting). TV06: the
+// collisions are the config's (warm-up included); the fictitious candidates from omega_max
+// against <phi(v1)> for the DSMC intruder, and for the needle's thinning (bound Phi(|v1|, omega)
+// against Phi(v_n, omega)) from a pilot ensemble of at most 20 000 collisions. Wall time: events
+// times a per-event cost measured on this machine (make bench).
+#include <cstdint>
+#include <string>
+
+#include "granboltz/config/config.hpp"
+
+namespace granboltz {
+
+struct RunEstimate {
+  std::uint64_t ensembles = 0;  ///< of this shard
+  double collisions = 0.0;      ///< real collisions, all ensembles, warm-up included
+  double fictitious = 0.0;      ///< rejected candidates
+  double kicks = 0.0;           ///< single-particle white-noise updates (DSMC)
+  std::uint64_t memory_bytes = 0;
+  unsigned threads = 1;
+  double seconds = 0.0;  ///< wall time on `threads` threads of this machine
+};
+
+/// The estimate of a run of `config` on `threads` worker threads (0: all cores).
+RunEstimate estimate_run(const Config& config, unsigned threads);
+
+/// One line: "7 ensembles: 1.23e+07 collisions, 4.1e+06 fictitious, 2.5e+07 kicks; peak memory
+/// 70.0 MiB; wall time about 1.2 min on 2 threads".
+std::string describe(const RunEstimate& e);
+
+}  // namespace granboltz

@@ -1,0 +1,135 @@
+// The cost estimate (granboltz estimate, and the line `run` prints) against the events counted by
+// real runs: real collisions, fictitious candidates and kicks, each within 10 %, for the DSMC
+// schemes and majorants and for the TV06 intruder and needle.
+#include <gtest/gtest.h>
+
+#include "granboltz/driver/estimate.hpp"
+#include "granboltz/io/hdf5_io.hpp"
+#include "test_support.hpp"
+
+using granboltz::test::run_granboltz;
+using granboltz::test::TempDir;
+
+namespace {
+
+const char* kHardSpheres = R"(model: dsmc
+seed: 3
+ensembles: 4
+dsmc:
+  particles: 2048
+  alpha: 0.5
+  beta: 0.125
+  gamma: 4
+  kernel: {lambda: 1, C: 0.0795774715459477}
+  t_end: 2
+  observe_every: 0.25
+)";
+
+const char* kIntruder = R"(model: intruder
+seed: 12
+ensembles: 4
+intruder:
+  bath: {kind: gaussian, a: 1}
+  mass: 0.5
+  alpha: 0.3
+  collisions: 20000
+)";
+
+const char* kNeedle = R"(model: needle
+seed: 13
+ensembles: 4
+needle:
+  mass: 0.5
+  alpha: 0.4
+  collisions: 20000
+)";
+
+double total(const granboltz::H5Reader& in, const std::string& column) {
+  if (!in.exists(column)) return 0.0;
+  double s = 0.0;
+  for (auto v : in.read_uint64(column)) s += static_cast<double>(v);
+  return s;
+}
+
+// Runs `text` with `sets`, and compares the estimate with the counted events. The TV06 columns
+// count the events after the warm-up; the estimate is of the whole run, so it is scaled back.
+void expect_estimate_matches(const char* text, const std::vector<std::string>& sets) {
+  TempDir dir;
+  const std::string cfg = dir.write("c.yaml", text), out = dir.file("out.h5");
+  std::string args;
+  for (const auto& s : sets) args += " --set " + s;
+  const auto r = run_granboltz("run " + cfg + args + " -q -o " + out);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const granboltz::Config config = granboltz::parse_config(text, "c.yaml", sets);
+  const granboltz::RunEstimate e = granboltz::estimate_run(config, 1);
+  double counted_fraction = 1.0;  // of the estimated events that the columns count
+  if (config.model == granboltz::Model::kIntruder)
+    counted_fraction = static_cast<double>(config.intruder.collisions) /
+                       static_cast<double>(config.intruder.collisions + config.intruder.warmup);
+  if (config.model == granboltz::Model::kNeedle)
+    counted_fraction = static_cast<double>(config.needle.collisions) /
+                       static_cast<double>(config.needle.collisions + config.needle.warmup);
+  granboltz::H5Reader in(out);
+  const struct {
+    const char* name;
+    double estimated, counted;
+  } checks[] = {{"collisions", e.collisions * counted_fraction, total(in, "/events/collisions")},
+                {"fictitious", e.fictitious * counted_fraction, total(in, "/events/fictitious")},
+                {"kicks", e.kicks, total(in, "/events/kicks")}};
+  std::string label;
+  for (const auto& s : sets) label += s + " ";
+  for (const auto& c : checks) {
+    if (c.counted == 0) {
+      EXPECT_EQ(c.estimated, 0.0) << label << c.name;
+      continue;
+    }
+    EXPECT_NEAR(c.estimated / c.counted, 1.0, 0.10)
+        << label << c.name << ": estimated " << c.estimated << ", counted " << c.counted;
+  }
+}
+
+}  // namespace
+
+TEST(Estimate, DsmcEventsAreWithinTenPercentOfCountedForEverySchemeAndMajorant) {
+  expect_estimate_matches(kHardSpheres, {});  // GRW05 Ex. 5, paper majorant update
+  expect_estimate_matches(kHardSpheres, {"dsmc.majorant_update=strict"});
+  expect_estimate_matches(kHardSpheres, {"dsmc.scheme=strang", "dsmc.steps=32"});
+  expect_estimate_matches(kHardSpheres, {"dsmc.scheme=euler", "dsmc.steps=16"});
+  expect_estimate_matches(kHardSpheres, {"dsmc.beta=0", "dsmc.alpha=1", "dsmc.majorant=pairwise"});
+  // RW05 Maxwell molecules (heated, T_inf = 8/3) and a strongly heated GRW05 Ex. 8 start.
+  expect_estimate_matches(kHardSpheres, {"dsmc.kernel.lambda=0", "dsmc.kernel.C=0.3183098861837907",
+                                         "dsmc.gamma=1", "dsmc.beta=1", "dsmc.t_end=8"});
+  expect_estimate_matches(kHardSpheres, {"dsmc.alpha=0.1", "dsmc.beta=30", "dsmc.gamma=16",
+                                         "dsmc.t_end=0.1", "dsmc.observe_every=0.05"});
+}
+
+TEST(Estimate, Tv06EventsAreWithinTenPercentOfCounted) {
+  expect_estimate_matches(kIntruder, {});
+  expect_estimate_matches(kIntruder, {"intruder.method=dsmc"});
+  expect_estimate_matches(kIntruder,
+                          {"intruder.method=dsmc", "intruder.mass=5", "intruder.alpha=0.9"});
+  expect_estimate_matches(kNeedle, {});
+  expect_estimate_matches(kNeedle, {"needle.mass=5", "needle.alpha=0.9"});
+  expect_estimate_matches(kNeedle, {"needle.length=3", "seed=5"});
+}
+
+TEST(Estimate, CommandPrintsOneLineAndRunPrintsItUnlessQuiet) {
+  TempDir dir;
+  const std::string cfg = dir.write("c.yaml", kHardSpheres);
+  auto r = run_granboltz("estimate " + cfg);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output.rfind("4 ensembles: ", 0), 0u) << r.output;
+  EXPECT_NE(r.output.find(" collisions, "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(" fictitious, "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(" kicks; peak memory "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("; wall time about "), std::string::npos) << r.output;
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+  r = run_granboltz("run " + cfg + " -o " + dir.file("a.h5"));
+  EXPECT_NE(r.output.find("[granboltz] estimate: 4 ensembles: "), std::string::npos) << r.output;
+  r = run_granboltz("run " + cfg + " -q -o " + dir.file("b.h5"));
+  EXPECT_EQ(r.output, "");
+  r = run_granboltz("run " + cfg + " -q --max-hours 1e-9 -o " + dir.file("c.h5"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("the run would take longer: 4 ensembles: "), std::string::npos);
+  EXPECT_FALSE(std::filesystem::exists(dir.file("c.h5")));
+}
