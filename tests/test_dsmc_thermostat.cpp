@@ -19,7 +19,6 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
-#include <chrono>
 #include <cmath>
 #include <thread>
 
@@ -57,17 +56,23 @@ TEST(GaussianThermostat, HoldsTheTemperatureAtT0ToRoundOffAtEveryObservation) {
   for (const Case& k : cases) {
     const Config c = make({"dsmc.particles=300", "dsmc.alpha=0.3", "dsmc.thermostat=gaussian",
                            "dsmc.gamma=1", "dsmc.kernel.lambda=" + std::string(k.lambda),
-                           "dsmc.kernel.C=0.2", "dsmc.initial.temperature=2.5", "dsmc.t_end=6",
-                           "dsmc.observe_every=0.5", "dsmc.steps=24",
+                           "dsmc.kernel.C=0.2", "dsmc.initial.temperature=2.5", "dsmc.t_end=30",
+                           "dsmc.observe_every=2.5", "dsmc.steps=120",
                            "dsmc.majorant=" + std::string(k.majorant),
                            "dsmc.scheme=" + std::string(k.scheme)},
                           1, 1);
     for (std::uint64_t e = 0; e < 3; ++e) {
       DsmcEnsemble ens(c.dsmc, 77, e);
+      const Observation start = measure(ens.particles());
       for (const double t : dsmc_times(c.dsmc)) {
         if (t > 0) ASSERT_TRUE(ens.advance_to(t));
-        EXPECT_NEAR(measure(ens.particles())[kTemperature], 2.5, 1e-13 * 2.5)
+        const Observation o = measure(ens.particles());
+        EXPECT_NEAR(o[kTemperature], 2.5, 1e-13 * 2.5)
             << "lambda=" << k.lambda << " " << k.majorant << " " << k.scheme << " t=" << t;
+        // The thermostat scales peculiar velocities only: the bulk velocity stays put, through
+        // the many folds of the scale factor (s^2 > 2^8) that a run this long needs.
+        for (int a = 1; a <= 3; ++a)
+          EXPECT_NEAR(o[a], start[a], 1e-14) << "lambda=" << k.lambda << " t=" << t;
       }
       // The gas did cool: without the thermostat T would have fallen by orders of magnitude.
       EXPECT_GT(ens.counts().collisions, 300u * 3) << "lambda=" << k.lambda;
@@ -186,17 +191,19 @@ TEST(GaussianThermostat, HardSpheresCollideAtTheRateOfAGasAtT0) {
   // The clock runs in true velocities: real collisions per unit time are (n-1)/2 4 pi gamma C
   // E|u| with E|u| = 4 sqrt(T0/pi) (n/(n-1))^{1/2} (1 - a2/16) at every time, although the stored
   // velocities cool by Haff's law (which would slow a clock run in them several-fold).
-  const double alpha = 0.9, n = 1000, N = 150, gC = 1 / (4 * M_PI), t = 20;
+  // t = 60 with a single observation: the stored velocities cool by ~10^4 and the scale is
+  // folded in mid-run.
+  const double alpha = 0.9, n = 500, N = 150, gC = 1 / (4 * M_PI), t = 60;
   const double mean_u = 4 * std::sqrt(1 / M_PI) * std::sqrt(n / (n - 1)) * (1 - vne_a2(alpha) / 16);
   const double expected = (n - 1) / 2 * 4 * M_PI * gC * mean_u * t;
   const double z = test::family_z(3);
   std::uint64_t seed = 60;
   for (const char* variant : {"global nosplit", "pairwise nosplit", "global strang"}) {
     const std::string v(variant);
-    const test::DsmcRun r(make({"dsmc.particles=1000", "dsmc.alpha=0.9", "dsmc.thermostat=gaussian",
+    const test::DsmcRun r(make({"dsmc.particles=500", "dsmc.alpha=0.9", "dsmc.thermostat=gaussian",
                                 "dsmc.gamma=1", "dsmc.kernel.lambda=1",
-                                "dsmc.kernel.C=" + format_real(gC), "dsmc.t_end=20",
-                                "dsmc.observe_every=5", "dsmc.steps=40",
+                                "dsmc.kernel.C=" + format_real(gC), "dsmc.t_end=60",
+                                "dsmc.steps=120",
                                 "dsmc.majorant=" + v.substr(0, v.find(' ')),
                                 "dsmc.scheme=" + v.substr(v.find(' ') + 1)},
                                ++seed, static_cast<std::uint64_t>(N)));
@@ -209,22 +216,27 @@ TEST(GaussianThermostat, HardSpheresCollideAtTheRateOfAGasAtT0) {
 
 TEST(GaussianThermostat, PausedSavedAndRestoredEnsembleContinuesBitForBit) {
   // A pause lands between two events, with the scale factor not folded in: the checkpoint must
-  // carry the stored velocities and the running energies.
+  // carry the stored velocities and the running energies. The runs are long enough (about
+  // 2.5 10^6 events) for the scale to be folded in mid-run as well (s^2 > 2^64).
   for (const char* majorant : {"global", "pairwise"}) {
-    const Config c = make({"dsmc.particles=20000", "dsmc.alpha=0.5", "dsmc.thermostat=gaussian",
+    const std::string t_end = std::string(majorant) == "global" ? "250" : "600";
+    const Config c = make({"dsmc.particles=2000", "dsmc.alpha=0.5", "dsmc.thermostat=gaussian",
                            "dsmc.gamma=1", "dsmc.kernel.lambda=1", "dsmc.kernel.C=0.1",
-                           "dsmc.t_end=4", "dsmc.majorant=" + std::string(majorant)},
+                           "dsmc.t_end=" + t_end, "dsmc.majorant=" + std::string(majorant)},
                           1, 1);
+    const double end = c.dsmc.t_end;
     DsmcEnsemble reference(c.dsmc, 3, 0);
-    ASSERT_TRUE(reference.advance_to(4.0));
+    ASSERT_TRUE(reference.advance_to(end));
 
-    DsmcEnsemble paused(c.dsmc, 3, 0);
+    // Progress is published every 2^20 events; the pause is noticed within 2^14 more.
+    ProgressSlot slot{0.0};
+    DsmcEnsemble paused(c.dsmc, 3, 0, &slot);
     std::atomic<bool> pause{false};
     std::thread stopper([&] {
-      std::this_thread::sleep_for(std::chrono::milliseconds(30));
+      while (slot.load() == 0.0) std::this_thread::yield();
       pause = true;
     });
-    const bool reached = paused.advance_to(4.0, &pause);
+    const bool reached = paused.advance_to(end, &pause);
     stopper.join();
     ASSERT_FALSE(reached) << majorant << ": the run ended before the pause; make it longer";
     EXPECT_GT(paused.time(), 0.0);
@@ -237,9 +249,9 @@ TEST(GaussianThermostat, PausedSavedAndRestoredEnsembleContinuesBitForBit) {
     }
     H5Reader in(file);
     DsmcEnsemble restored(c.dsmc, in, "/e");
-    ASSERT_TRUE(restored.advance_to(4.0));
+    ASSERT_TRUE(restored.advance_to(end));
     pause = false;
-    ASSERT_TRUE(paused.advance_to(4.0, &pause));
+    ASSERT_TRUE(paused.advance_to(end, &pause));
     for (const DsmcEnsemble* e : {&paused, &restored}) {
       EXPECT_EQ(e->counts().collisions, reference.counts().collisions) << majorant;
       EXPECT_EQ(e->u_max(), reference.u_max()) << majorant;
