@@ -54,13 +54,13 @@ TEST(GaussianThermostat, HoldsTheTemperatureAtT0ToRoundOffAtEveryObservation) {
                         {"0.3", "global", "euler"},    {"1", "global", "strang"},
                         {"0.3", "pairwise", "nosplit"}};
   for (const Case& k : cases) {
-    const Config c = make({"dsmc.particles=300", "dsmc.alpha=0.3", "dsmc.thermostat=gaussian",
-                           "dsmc.gamma=1", "dsmc.kernel.lambda=" + std::string(k.lambda),
-                           "dsmc.kernel.C=0.2", "dsmc.initial.temperature=2.5", "dsmc.t_end=30",
-                           "dsmc.observe_every=2.5", "dsmc.steps=120",
-                           "dsmc.majorant=" + std::string(k.majorant),
-                           "dsmc.scheme=" + std::string(k.scheme)},
-                          1, 1);
+    const Config c =
+        make({"dsmc.particles=300", "dsmc.alpha=0.3", "dsmc.thermostat=gaussian", "dsmc.gamma=1",
+              "dsmc.kernel.lambda=" + std::string(k.lambda), "dsmc.kernel.C=0.2",
+              "dsmc.initial.temperature=2.5", "dsmc.t_end=30", "dsmc.observe_every=2.5",
+              "dsmc.steps=120", "dsmc.majorant=" + std::string(k.majorant),
+              "dsmc.scheme=" + std::string(k.scheme)},
+             1, 1);
     for (std::uint64_t e = 0; e < 3; ++e) {
       DsmcEnsemble ens(c.dsmc, 77, e);
       const Observation start = measure(ens.particles());
@@ -83,8 +83,10 @@ TEST(GaussianThermostat, HoldsTheTemperatureAtT0ToRoundOffAtEveryObservation) {
 TEST(FreeCooling, NoneIsWhiteNoiseWithBetaZeroBitForBit) {
   for (const char* lambda : {"0", "1"}) {
     const std::vector<std::string> common = {
-        "dsmc.particles=100", "dsmc.alpha=0.6", "dsmc.gamma=2", "dsmc.kernel.lambda=" + std::string(lambda),
-        "dsmc.kernel.C=0.1", "dsmc.t_end=2", "dsmc.observe_every=0.5"};
+        "dsmc.particles=100",    "dsmc.alpha=0.6",
+        "dsmc.gamma=2",          "dsmc.kernel.lambda=" + std::string(lambda),
+        "dsmc.kernel.C=0.1",     "dsmc.t_end=2",
+        "dsmc.observe_every=0.5"};
     auto a = common, b = common;
     a.push_back("dsmc.beta=0");
     b.push_back("dsmc.thermostat=none");
@@ -108,13 +110,12 @@ TEST(FreeCooling, MaxwellMoleculesCoolExponentiallyInEveryScheme) {
   for (const double alpha : {0.5, 0.2}) {
     const test::MaxwellExact exact{alpha, 0.0, 4.0, 1 / (4 * M_PI), 1.5};
     for (const char* scheme : {"nosplit", "euler", "strang"}) {
-      const test::DsmcRun r(make({"dsmc.particles=64", "dsmc.alpha=" + format_real(alpha),
-                                  "dsmc.thermostat=none", "dsmc.gamma=4", "dsmc.kernel.lambda=0",
-                                  "dsmc.kernel.C=" + format_real(1 / (4 * M_PI)),
-                                  "dsmc.initial.temperature=1.5", "dsmc.t_end=4",
-                                  "dsmc.observe_every=0.25", "dsmc.steps=16",
-                                  "dsmc.scheme=" + std::string(scheme)},
-                                 ++seed, static_cast<std::uint64_t>(N)));
+      const test::DsmcRun r(make(
+          {"dsmc.particles=64", "dsmc.alpha=" + format_real(alpha), "dsmc.thermostat=none",
+           "dsmc.gamma=4", "dsmc.kernel.lambda=0", "dsmc.kernel.C=" + format_real(1 / (4 * M_PI)),
+           "dsmc.initial.temperature=1.5", "dsmc.t_end=4", "dsmc.observe_every=0.25",
+           "dsmc.steps=16", "dsmc.scheme=" + std::string(scheme)},
+          ++seed, static_cast<std::uint64_t>(N)));
       for (std::size_t m = 1; m < r.times.size(); ++m) {
         const MeanCi T = r.at(m, kTemperature);
         EXPECT_NEAR(T.mean, exact.centred_nosplit(r.times[m], n), z * std::sqrt(T.variance / N))
@@ -139,11 +140,11 @@ TEST(GaussianThermostat, MaxwellHcsFourthMomentFollowsTheExactMomentHierarchy) {
     const double Rs = A / k;
     EXPECT_NEAR(3 * Rs / 5 - 1, 2 * (1 - alpha) * (1 - alpha) / (1 + 2 * alpha - alpha * alpha),
                 1e-14);
-    const test::DsmcRun r(make({"dsmc.particles=2000", "dsmc.alpha=" + format_real(alpha),
-                                "dsmc.thermostat=gaussian", "dsmc.gamma=1", "dsmc.kernel.lambda=0",
-                                "dsmc.kernel.C=" + format_real(1 / M_PI), "dsmc.t_end=10",
-                                "dsmc.observe_every=1"},
-                               ++seed, static_cast<std::uint64_t>(N)));
+    const test::DsmcRun r(
+        make({"dsmc.particles=2000", "dsmc.alpha=" + format_real(alpha), "dsmc.thermostat=gaussian",
+              "dsmc.gamma=1", "dsmc.kernel.lambda=0", "dsmc.kernel.C=" + format_real(1 / M_PI),
+              "dsmc.t_end=10", "dsmc.observe_every=1"},
+             ++seed, static_cast<std::uint64_t>(N)));
     for (std::size_t m = 1; m < r.times.size(); ++m) {
       const double t = r.times[m];
       const double a2 = 3 * (Rs + (5.0 / 3 - Rs) * std::exp(-nu * k * t)) / 5 - 1;
@@ -166,11 +167,11 @@ TEST(FreeCooling, HardSpheresFollowHaffsLawWithTheSonineCorrection) {
   const double T0 = 1 - 1 / n, t0 = 2 / (K * std::sqrt(T0));
   const double t_end = 130;  // 1 + t/t0 = 10.3: T falls to 0.0094
   const double z = test::family_z(13);
-  const test::DsmcRun r(make({"dsmc.particles=2000", "dsmc.alpha=0.9", "dsmc.thermostat=none",
-                              "dsmc.gamma=1", "dsmc.kernel.lambda=1",
-                              "dsmc.kernel.C=" + format_real(gC), "dsmc.majorant=pairwise",
-                              "dsmc.t_end=" + format_real(t_end), "dsmc.observe_every=10"},
-                             31, static_cast<std::uint64_t>(N)));
+  const test::DsmcRun r(
+      make({"dsmc.particles=2000", "dsmc.alpha=0.9", "dsmc.thermostat=none", "dsmc.gamma=1",
+            "dsmc.kernel.lambda=1", "dsmc.kernel.C=" + format_real(gC), "dsmc.majorant=pairwise",
+            "dsmc.t_end=" + format_real(t_end), "dsmc.observe_every=10"},
+           31, static_cast<std::uint64_t>(N)));
   EXPECT_LT(r.at(r.times.size() - 1, kTemperature).mean, 0.01);
   double worst_plain = 0;  // the same law without the Sonine correction must be rejected
   const double t0_plain = t0 * (1 + 3 * a2 / 16);
@@ -199,13 +200,12 @@ TEST(GaussianThermostat, HardSpheresCollideAtTheRateOfAGasAtT0) {
   std::uint64_t seed = 60;
   for (const char* variant : {"global nosplit", "pairwise nosplit", "global strang"}) {
     const std::string v(variant);
-    const test::DsmcRun r(make({"dsmc.particles=500", "dsmc.alpha=0.9", "dsmc.thermostat=gaussian",
-                                "dsmc.gamma=1", "dsmc.kernel.lambda=1",
-                                "dsmc.kernel.C=" + format_real(gC), "dsmc.t_end=60",
-                                "dsmc.steps=120",
-                                "dsmc.majorant=" + v.substr(0, v.find(' ')),
-                                "dsmc.scheme=" + v.substr(v.find(' ') + 1)},
-                               ++seed, static_cast<std::uint64_t>(N)));
+    const test::DsmcRun r(
+        make({"dsmc.particles=500", "dsmc.alpha=0.9", "dsmc.thermostat=gaussian", "dsmc.gamma=1",
+              "dsmc.kernel.lambda=1", "dsmc.kernel.C=" + format_real(gC), "dsmc.t_end=60",
+              "dsmc.steps=120", "dsmc.majorant=" + v.substr(0, v.find(' ')),
+              "dsmc.scheme=" + v.substr(v.find(' ') + 1)},
+             ++seed, static_cast<std::uint64_t>(N)));
     double sum = 0, sum2 = 0;
     for (double c : r.collisions) sum += c, sum2 += c * c;
     const double mean = sum / N, var = sum2 / N - mean * mean;
@@ -304,13 +304,14 @@ TEST(ThermostatConfig, BadThermostatSettingsGiveOneLineErrors) {
             "dsmc.beta = 0.5: must be 0 with thermostat gaussian (only white_noise heats)");
   EXPECT_EQ(error(", thermostat: none, beta: 1"),
             "dsmc.beta = 1: must be 0 with thermostat none (only white_noise heats)");
-  EXPECT_NE(error(", thermostat: nose_hoover").find(
-                "dsmc.thermostat = nose_hoover: must be one of white_noise, gaussian, none"),
+  EXPECT_NE(error(", thermostat: nose_hoover")
+                .find("dsmc.thermostat = nose_hoover: must be one of white_noise, gaussian, none"),
             std::string::npos)
       << error(", thermostat: nose_hoover");
   EXPECT_NE(error("").find("dsmc.beta"), std::string::npos);  // white_noise still needs beta
   EXPECT_EQ(error(", thermostat: gaussian"), "");
   EXPECT_EQ(error(", thermostat: none, beta: 0"), "");
-  for (const std::string& e : {error(", thermostat: gaussian, beta: 0.5"), error(", thermostat: 3")})
+  for (const std::string& e :
+       {error(", thermostat: gaussian, beta: 0.5"), error(", thermostat: 3")})
     EXPECT_EQ(e.find('\n'), std::string::npos) << e;
 }

@@ -129,8 +129,9 @@ DsmcConfig read_dsmc(const Section& s) {
     s.check(c.steady_from >= 0 && c.steady_from < c.t_end, "steady_from", c.steady_from,
             "must satisfy 0 <= steady_from < t_end");
   }
-  s.finish({"particles", "scheme", "steps", "alpha", "beta", "thermostat", "gamma", "kernel", "initial",
-            "t_end", "observe_every", "histogram", "majorant", "majorant_update", "steady_from"});
+  s.finish({"particles", "scheme", "steps", "alpha", "beta", "thermostat", "gamma", "kernel",
+            "initial", "t_end", "observe_every", "histogram", "majorant", "majorant_update",
+            "steady_from"});
   return c;
 }
 
