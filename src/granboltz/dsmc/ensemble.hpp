@@ -37,7 +37,8 @@ class DsmcEnsemble {
   /// (GRW05 Remark 2), ready to be observed (with the Gaussian thermostat, the lazy scale factor
   /// is folded into the velocities first, so that particles() are the true velocities). For the
   /// splitting schemes s must lie on the grid of time steps. If `pause` becomes true, returns
-  /// false early at a point between events (or between steps) from which a later call continues exactly as if it had not stopped.
+  /// false early at a point between events (or between steps) from which a later call continues
+  /// exactly as if it had not stopped.
   bool advance_to(double s, const std::atomic<bool>* pause = nullptr);
 
   /// Writes the complete state (particles, streams, majorant, counts) under `group`.
