@@ -27,6 +27,15 @@ const char* scheme_name(Scheme s) {
   return "?";
 }
 
+const char* thermostat_name(Thermostat t) {
+  switch (t) {
+    case Thermostat::kWhiteNoise: return "white_noise";
+    case Thermostat::kGaussian: return "gaussian";
+    case Thermostat::kNone: return "none";
+  }
+  return "?";
+}
+
 std::uint64_t DsmcConfig::observations() const {
   return static_cast<std::uint64_t>(std::llround(t_end / observe_every));
 }
@@ -41,8 +50,18 @@ DsmcConfig read_dsmc(const Section& s) {
 
   c.alpha = s.real("alpha");
   s.check(c.alpha > 0 && c.alpha <= 1, "alpha", c.alpha, "must satisfy 0 < alpha <= 1");
-  c.beta = s.real("beta");
-  s.check(c.beta >= 0, "beta", c.beta, "must be >= 0 (0 is free cooling)");
+  const std::string thermostat =
+      s.choice("thermostat", {"white_noise", "gaussian", "none"}, "white_noise");
+  c.thermostat = thermostat == "gaussian" ? Thermostat::kGaussian
+                 : thermostat == "none"   ? Thermostat::kNone : Thermostat::kWhiteNoise;
+  if (c.thermostat == Thermostat::kWhiteNoise) {
+    c.beta = s.real("beta");
+    s.check(c.beta >= 0, "beta", c.beta, "must be >= 0 (0 is free cooling)");
+  } else {  // only white noise heats: beta may be left out, and must then be 0
+    c.beta = s.real("beta", 0.0);
+    s.check(c.beta == 0, "beta", c.beta,
+            "must be 0 with thermostat " + thermostat + " (only white_noise heats)");
+  }
   c.kernel.gamma = s.real("gamma", 1.0);
   s.check(c.kernel.gamma > 0, "gamma", c.kernel.gamma, "must be > 0");
 
@@ -114,8 +133,9 @@ DsmcConfig read_dsmc(const Section& s) {
     s.check(c.steady_from >= 0 && c.steady_from < c.t_end, "steady_from", c.steady_from,
             "must satisfy 0 <= steady_from < t_end");
   }
-  s.finish({"particles", "scheme", "steps", "alpha", "beta", "gamma", "kernel", "initial",
-            "t_end", "observe_every", "histogram", "majorant", "majorant_update", "moments",
+  s.finish({"particles", "scheme", "steps", "alpha", "beta", "thermostat", "gamma", "kernel",
+            "initial", "t_end", "observe_every", "histogram", "majorant", "majorant_update",
+            "moments",
             "steady_from"});
   return c;
 }
@@ -127,6 +147,7 @@ void emit_dsmc(YAML::Emitter& out, const DsmcConfig& c) {
   if (c.scheme != Scheme::kNoSplit) out << YAML::Key << "steps" << YAML::Value << c.steps;
   out << YAML::Key << "alpha" << YAML::Value << format_real(c.alpha);
   out << YAML::Key << "beta" << YAML::Value << format_real(c.beta);
+  out << YAML::Key << "thermostat" << YAML::Value << thermostat_name(c.thermostat);
   out << YAML::Key << "gamma" << YAML::Value << format_real(c.kernel.gamma);
   out << YAML::Key << "kernel" << YAML::Value << YAML::Flow << YAML::BeginMap
       << YAML::Key << "lambda" << YAML::Value << format_real(c.kernel.lambda)

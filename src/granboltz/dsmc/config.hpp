@@ -19,6 +19,10 @@ enum class MajorantKind { kGlobal, kPairwise };
 /// paper: U_max := max(U_max, |v_i - V|, |v_j - V|) (GRW05 2.7/2.10, RW05 eq. 21), the
 /// truncated kernel of RW05 eq. (19); strict: U_max := max(U_max, 2|v_i - V|, 2|v_j - V|).
 enum class MajorantUpdate { kPaper, kStrict };
+/// white_noise: heating by white noise of strength beta (the papers; beta = 0 is free cooling);
+/// gaussian: all peculiar velocities rescaled so that T stays T0 (the homogeneous cooling state in
+/// scaled variables); none: free cooling.
+enum class Thermostat { kWhiteNoise, kGaussian, kNone };
 
 /// The most speed moments dsmc.moments may ask for: <|v - V|^{2p}>, p = 1..16.
 inline constexpr int kMaxMoments = 16;
@@ -34,6 +38,7 @@ struct DsmcConfig {
   std::uint64_t steps = 0;  ///< K: time steps of the splitting schemes, dt = t_end / K
   double alpha = 1.0;       ///< restitution coefficient, 0 < alpha <= 1
   double beta = 0.0;        ///< heating strength (white noise), >= 0
+  Thermostat thermostat = Thermostat::kWhiteNoise;
   VhsKernel kernel;         ///< lambda, C, and gamma (the prefactor of the collision term)
   double initial_temperature = 1.0;
   double t_end = 0.0;
@@ -52,5 +57,6 @@ struct DsmcConfig {
 DsmcConfig read_dsmc(const Section& s);
 void emit_dsmc(YAML::Emitter& out, const DsmcConfig& c);
 const char* scheme_name(Scheme s);
+const char* thermostat_name(Thermostat t);
 
 }  // namespace granboltz

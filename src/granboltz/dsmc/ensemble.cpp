@@ -20,6 +20,22 @@ constexpr int kMaxwell = 0, kHardSpheres = 1, kHalf = 2, kGeneral = 3;
 int lambda_case(double lambda) {
   return lambda == 0.0 ? kMaxwell : lambda == 1.0 ? kHardSpheres : lambda == 0.5 ? kHalf : kGeneral;
 }
+
+// Gaussian thermostat: the scale is folded into the velocities once s^2 exceeds this, i.e. once
+// the stored velocities have cooled by 2^8 (some 20 collisions per particle at alpha = 1/2). The
+// running energy then never falls far below the values it was summed from (it would lose all
+// its digits after a cooling by ~10^12), and the O(n) fold costs about 1 % of the events.
+constexpr double kRefold = 0x1p8;
+
+// s^-lambda from s^2, the same arithmetic whether lc is a constant or not.
+inline double inverse_power(int lc, double lambda, double s2) {
+  switch (lc) {
+    case kMaxwell: return 1.0;
+    case kHardSpheres: return 1.0 / std::sqrt(s2);
+    case kHalf: return 1.0 / std::sqrt(std::sqrt(s2));
+    default: return std::pow(s2, -0.5 * lambda);
+  }
+}
 }  // namespace
 
 DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, std::uint64_t seed, std::uint64_t ensemble,
@@ -27,7 +43,8 @@ DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, std::uint64_t seed, std::ui
     : c_(config),
       p_(config.particles),
       adapt_factor2_(config.majorant_update == MajorantUpdate::kStrict ? 4.0 : 1.0),
-      heated_(config.beta > 0.0),
+      heated_(config.thermostat == Thermostat::kWhiteNoise && config.beta > 0.0),
+      gaussian_(config.thermostat == Thermostat::kGaussian),
       events_(make_stream(seed, ensemble, Consumer::kEvents)),
       pairs_(make_stream(seed, ensemble, Consumer::kPairs)),
       sweep_(make_stream(seed, ensemble, Consumer::kSweep)),
@@ -42,6 +59,7 @@ DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, std::uint64_t seed, std::ui
     sum += q.v;
   }
   v0_ = (1.0 / static_cast<double>(p_.size())) * sum;
+  if (gaussian_) fold_scale();  // the thermostat holds T at T0 exactly, from t = 0 on
   double r2 = 0.0;
   for (const auto& q : p_) r2 = std::max(r2, norm2(q.v - v0_));
   set_majorant(2.0 * std::sqrt(r2));
@@ -71,10 +89,59 @@ void DsmcEnsemble::adapt_majorant(const Particle& a) {
   if (r2 > u_max2_) set_majorant(std::sqrt(r2));
 }
 
+inline void DsmcEnsemble::adapt_majorant_scaled(const Particle& a) {
+  // Gaussian thermostat: the same rule for the true velocity V + s (w - V).
+  const double r2 = adapt_factor2_ * s2_ * norm2(a.v - v0_);
+  if (r2 > u_max2_) set_majorant(std::sqrt(r2));
+}
+
 void DsmcEnsemble::adapt_majorant_all() {
   if (c_.kernel.lambda == 0.0) return;  // U_max plays no role for Maxwell molecules
   if (pairwise_) return reweigh_all();
   for (const auto& q : p_) adapt_majorant(q);
+}
+
+// ---- Gaussian thermostat ----
+
+void DsmcEnsemble::set_scale() {
+  s2_ = target_ / energy_;
+  clock_ = pairwise_ ? inverse_power(lambda_case(c_.kernel.lambda), c_.kernel.lambda, s2_) : 1.0;
+}
+
+void DsmcEnsemble::fold_scale() {
+  // The true velocities are V + f (w - m), m the exact mean of the stored ones: the peculiar
+  // velocities scaled so that the centred temperature (GRW05 eq. 13) is T0 to round-off, and the
+  // bulk velocity the conserved V. Taking f from the exact sum, not from s, removes the drift of
+  // the running energy; centring on m, not on V, keeps the round-off momentum of the stored
+  // velocities from being amplified by s at every fold.
+  const double n = static_cast<double>(p_.size());
+  Vec3 sum;
+  for (const auto& q : p_) sum += q.v;
+  const Vec3 mean = (1.0 / n) * sum;
+  double k = 0.0;
+  for (const auto& q : p_) k += norm2(q.v - mean);
+  const double f = std::sqrt(3.0 * n * c_.initial_temperature / k);
+  double e = 0.0;
+  for (auto& q : p_) {
+    q.v = v0_ + f * (q.v - mean);
+    e += norm2(q.v - v0_);
+  }
+  energy_ = target_ = e;
+  set_scale();
+}
+
+void DsmcEnsemble::rescale() {
+  fold_scale();
+  adapt_majorant_all();  // the global majorant is in true units already; the weights are not
+}
+
+template <int kLambda, bool kPairwise>
+inline void DsmcEnsemble::after_gaussian_collision(double delta) {
+  // The collision removed energy from the stored velocities; the scale grows so that the true
+  // energy s^2 sum |w - V|^2 stays target_ (the Gaussian thermostat, acting at once).
+  energy_ += delta;
+  s2_ = target_ / energy_;
+  if constexpr (kPairwise) clock_ = inverse_power(kLambda, c_.kernel.lambda, s2_);
 }
 
 template <int kLambda>
@@ -189,8 +256,9 @@ inline DsmcEnsemble::Pair DsmcEnsemble::select_pair(Engine& pairs, Engine& event
 
 // ---- Schemes ----
 
-template <bool kHeated, int kLambda, bool kPairwise>
+template <int kHeat, int kLambda, bool kPairwise>
 bool DsmcEnsemble::run_nosplit(double s, const std::atomic<bool>* pause) {
+  constexpr bool kHeated = kHeat == kNoise, kGaussian = kHeat == kGauss;
   const double alpha = c_.alpha, beta = c_.beta;
   // Local copies of the streams: kept in registers instead of being stored after every draw.
   Engine ev = events_, pairs = pairs_;
@@ -203,7 +271,9 @@ bool DsmcEnsemble::run_nosplit(double s, const std::atomic<bool>* pause) {
       reached = false;
       break;
     }
-    const double tau = exponential(ev) * inv_rate_;  // GRW05 step 2.1
+    double tau = exponential(ev) * inv_rate_;  // GRW05 step 2.1
+    // Gaussian thermostat: a pairwise rate is in stored units, s^lambda times too small.
+    if constexpr (kGaussian && kPairwise) tau *= clock_;
     if (t_ + tau >= s) break;
     t_ += tau;
     const Pair pair = select_pair<kLambda, kPairwise>(pairs, ev);
@@ -223,9 +293,15 @@ bool DsmcEnsemble::run_nosplit(double s, const std::atomic<bool>* pause) {
     }
     bool real = true;
     if constexpr (kPairwise) real = accept_pairwise<kLambda>(norm2(a.v - b.v), bound, ev);
+    else if constexpr (kGaussian && kLambda != kMaxwell)  // the global majorant is in true units
+      real = accept<kLambda>(s2_ * norm2(a.v - b.v), ev);
     else if constexpr (kLambda != kMaxwell) real = accept<kLambda>(norm2(a.v - b.v), ev);  // 2.8
     if (real) {
+      double before = 0.0;
+      if constexpr (kGaussian) before = norm2(a.v - v0_) + norm2(b.v - v0_);
       collide(a.v, b.v, unit_vector(ev), alpha);  // step 2.9
+      if constexpr (kGaussian)
+        after_gaussian_collision<kLambda, kPairwise>(norm2(a.v - v0_) + norm2(b.v - v0_) - before);
       ++counts.collisions;
     } else {
       ++counts.fictitious;
@@ -238,10 +314,17 @@ bool DsmcEnsemble::run_nosplit(double s, const std::atomic<bool>* pause) {
       }
     } else if constexpr (kLambda != kMaxwell) {
       if (real) {  // step 2.10
-        adapt_majorant(a);
-        adapt_majorant(b);
+        if constexpr (kGaussian) {
+          adapt_majorant_scaled(a);
+          adapt_majorant_scaled(b);
+        } else {
+          adapt_majorant(a);
+          adapt_majorant(b);
+        }
       }
     }
+    if constexpr (kGaussian)
+      if (s2_ > kRefold) rescale();
     if ((++events & kProgressMask) == 0) report(t_);
   }
   events_ = ev;
@@ -270,7 +353,7 @@ void DsmcEnsemble::kick_all_to(double s) {
   }
 }
 
-template <int kLambda, bool kPairwise>
+template <bool kGaussian, int kLambda, bool kPairwise>
 void DsmcEnsemble::collide_during(double h) {
   const double alpha = c_.alpha;
   Engine ev = events_, pairs = pairs_;
@@ -278,7 +361,8 @@ void DsmcEnsemble::collide_during(double h) {
   double t = 0.0;
   std::uint64_t events = 0;
   for (;;) {
-    t += exponential(ev) * inv_rate_;
+    if constexpr (kGaussian && kPairwise) t += exponential(ev) * inv_rate_ * clock_;
+    else t += exponential(ev) * inv_rate_;
     if (t >= h) break;
     const Pair pair = select_pair<kLambda, kPairwise>(pairs, ev);
     Particle& a = p_[pair.i];
@@ -286,19 +370,30 @@ void DsmcEnsemble::collide_during(double h) {
     bool real = true;
     if constexpr (kPairwise)
       real = accept_pairwise<kLambda>(norm2(a.v - b.v), w_[pair.i] + w_[pair.j], ev);
+    else if constexpr (kGaussian && kLambda != kMaxwell)
+      real = accept<kLambda>(s2_ * norm2(a.v - b.v), ev);
     else if constexpr (kLambda != kMaxwell)
       real = accept<kLambda>(norm2(a.v - b.v), ev);
     if (real) {
+      double before = 0.0;
+      if constexpr (kGaussian) before = norm2(a.v - v0_) + norm2(b.v - v0_);
       collide(a.v, b.v, unit_vector(ev), alpha);
+      if constexpr (kGaussian)
+        after_gaussian_collision<kLambda, kPairwise>(norm2(a.v - v0_) + norm2(b.v - v0_) - before);
       ++counts.collisions;
       if constexpr (kPairwise) {
         reweigh<kLambda>(pair.i);
         reweigh<kLambda>(pair.j);
         inv_rate_ = 1.0 / (pairwise_rate_factor_ * w_sum_);
+      } else if constexpr (kGaussian && kLambda != kMaxwell) {
+        adapt_majorant_scaled(a);
+        adapt_majorant_scaled(b);
       } else if constexpr (kLambda != kMaxwell) {
         adapt_majorant(a);
         adapt_majorant(b);
       }
+      if constexpr (kGaussian)
+        if (s2_ > kRefold) rescale();
     } else {
       ++counts.fictitious;
     }
@@ -363,14 +458,19 @@ bool DsmcEnsemble::advance_to(double s, const std::atomic<bool>* pause) {
   if (c_.scheme == Scheme::kNoSplit) {
     bool reached = true;
     dispatch(lc, pairwise_, [&]<int L, bool P>() {
-      reached = heated_ ? run_nosplit<true, L, P>(s, pause) : run_nosplit<false, L, P>(s, pause);
+      reached = heated_     ? run_nosplit<kNoise, L, P>(s, pause)
+                : gaussian_ ? run_nosplit<kGauss, L, P>(s, pause)
+                            : run_nosplit<kFree, L, P>(s, pause);
     });
     if (!reached) return false;
     kick_all_to(s);  // step 3.1 / Remark 2
     t_ = s;
   } else {
     auto collide_for = [&](double h) {
-      dispatch(lc, pairwise_, [&]<int L, bool P>() { collide_during<L, P>(h); });
+      dispatch(lc, pairwise_, [&]<int L, bool P>() {
+        if (gaussian_) collide_during<true, L, P>(h);
+        else collide_during<false, L, P>(h);
+      });
     };
     const double dt = c_.time_step();
     // Steps are counted from t = 0 so that t_k = k dt carries no accumulated round-off.
@@ -391,6 +491,7 @@ bool DsmcEnsemble::advance_to(double s, const std::atomic<bool>* pause) {
     }
     t_ = s;
   }
+  if (gaussian_) rescale();  // observers see the true velocities, at T = T0 exactly
   report(t_);
   return true;
 }
@@ -437,6 +538,7 @@ void DsmcEnsemble::save(H5Writer& out, const std::string& g) const {
             std::vector<std::uint64_t>{head_, counts_.collisions, counts_.fictitious, counts_.kicks},
             {4});
   if (pairwise_) out.write(g + "/weights", w_, {n});
+  if (gaussian_) out.write(g + "/thermostat", std::vector<double>{energy_, target_}, {2});
 }
 
 DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, const H5Reader& in, const std::string& g,
@@ -444,7 +546,8 @@ DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, const H5Reader& in, const s
     : c_(config),
       p_(config.particles),
       adapt_factor2_(config.majorant_update == MajorantUpdate::kStrict ? 4.0 : 1.0),
-      heated_(config.beta > 0.0),
+      heated_(config.thermostat == Thermostat::kWhiteNoise && config.beta > 0.0),
+      gaussian_(config.thermostat == Thermostat::kGaussian),
       events_(read_engine(in, g + "/events_stream")),
       pairs_(read_engine(in, g + "/pairs_stream")),
       sweep_(read_engine(in, g + "/sweep_stream")),
@@ -477,6 +580,14 @@ DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, const H5Reader& in, const s
     w_sum_ = scalars[5];
     w_max_ = scalars[6];
     set_pairwise_rate();
+  }
+  if (gaussian_) {  // the lazy scale: the particles above are the stored velocities w
+    const auto th = in.read_double(g + "/thermostat");
+    if (th.size() != 2 || !(th[0] > 0) || !(th[1] > 0))
+      throw std::runtime_error(in.path() + ": malformed thermostat state in " + g);
+    energy_ = th[0];
+    target_ = th[1];
+    set_scale();
   }
 }
 

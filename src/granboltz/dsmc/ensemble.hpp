@@ -34,9 +34,11 @@ class DsmcEnsemble {
                ProgressSlot* progress = nullptr);
 
   /// Advances the system to time s > time(); on return every particle is kicked up to s
-  /// (GRW05 Remark 2), ready to be observed. For the splitting schemes s must lie on the grid
-  /// of time steps. If `pause` becomes true, returns false early at a point between events (or
-  /// between steps) from which a later call continues exactly as if it had not stopped.
+  /// (GRW05 Remark 2), ready to be observed (with the Gaussian thermostat, the lazy scale factor
+  /// is folded into the velocities first, so that particles() are the true velocities). For the
+  /// splitting schemes s must lie on the grid of time steps. If `pause` becomes true, returns
+  /// false early at a point between events (or between steps) from which a later call continues
+  /// exactly as if it had not stopped.
   bool advance_to(double s, const std::atomic<bool>* pause = nullptr);
 
   /// Writes the complete state (particles, streams, majorant, counts) under `group`.
@@ -59,10 +61,19 @@ class DsmcEnsemble {
     double u;            // pairwise majorant: the uniform that keeps i with probability w_i/w_max
   };
 
-  template <bool kHeated, int kLambda, bool kPairwise>
+  // The event loops, specialised by what happens between and after collisions.
+  static constexpr int kFree = 0, kNoise = 1, kGauss = 2;
+  template <int kHeat, int kLambda, bool kPairwise>
   bool run_nosplit(double s, const std::atomic<bool>* pause);
-  template <int kLambda, bool kPairwise>
+  template <bool kGaussian, int kLambda, bool kPairwise>
   void collide_during(double h);  // collision step of length h (splitting schemes)
+  // Gaussian thermostat: the stored velocities w relate to the true ones by v = V + s (w - V),
+  // V = v0_, s^2 = target_ / energy_ (collisions commute with this map).
+  template <int kLambda, bool kPairwise>
+  void after_gaussian_collision(double delta);  // delta: the change of sum |w - V|^2
+  void set_scale();               // s2_ and clock_ from energy_ and target_
+  void fold_scale();              // v := V + s (w - V), then exactly T = T0 about the mean
+  void rescale();                 // fold_scale() and the majorant in the new units
   template <int kLambda, bool kPairwise>
   Pair select_pair(Engine& pairs, Engine& events);  // candidate pair of the majorant process
   void kick_all_by(double h);      // kicking step of length h (splitting schemes)
@@ -78,6 +89,7 @@ class DsmcEnsemble {
   void reweigh_all();
   void set_pairwise_rate();
   void adapt_majorant(const Particle& a);
+  void adapt_majorant_scaled(const Particle& a);  // gaussian: for the true velocity of a
   void adapt_majorant_all();
   void set_majorant(double u_max);
   Pair draw_pair(Engine& pairs);
@@ -94,7 +106,12 @@ class DsmcEnsemble {
   double u_max2_ = 0.0;   // U_max^2
   double inv_rate_ = 0.0; // 1 / pi_hat, pi_hat = 2 pi gamma C (n - 1) U_max^lambda
   double adapt_factor2_;  // (1 or 2)^2: paper or strict majorant update
-  bool heated_;           // beta > 0
+  bool heated_;           // white noise with beta > 0
+  bool gaussian_;         // dsmc.thermostat: gaussian
+  double energy_ = 0.0;   // gaussian: sum |w_i - V|^2, updated by every collision
+  double target_ = 0.0;   // gaussian: sum |v_i - V|^2 at the last fold (3 n T0 to round-off)
+  double s2_ = 1.0;       // gaussian: s^2 = target_ / energy_
+  double clock_ = 1.0;    // gaussian, pairwise majorant: s^-lambda (the rate is in w units)
   Engine events_, pairs_, sweep_;
   std::array<Pair, kLookahead> ring_{};
   unsigned head_ = 0;
