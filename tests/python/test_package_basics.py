@@ -1,4 +1,4 @@
-"""The helper module of the workflow scripts: analytic formulas, GRW05 Table 1 numbers, files."""
+"""The package's basics: analytic formulas, GRW05 Table 1 numbers, atomic files."""
 
 import math
 import os

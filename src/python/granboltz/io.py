@@ -80,18 +80,26 @@ def run_attrs(f):
     }
 
 
+def _plain(value):
+    """An attribute value as plain Python: text decoded, and numbers written as text parsed."""
+    if isinstance(value, bytes):
+        value = value.decode()
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, str):
+        for kind in (int, float):
+            try:
+                return kind(value)
+            except ValueError:
+                pass
+    return value
+
+
 def provenance(f):
-    """Every attribute of /provenance (run_config, command, threads, shard_index, shard_count,
+    """Every attribute of /provenance (run_config, command, threads, shard "i/count",
     wall_seconds, host, build, merged_from, ...) plus the root's version and git_sha, as plain
-    Python values."""
+    Python values (numbers stored as text are parsed)."""
     out = {"version": text(f.attrs.get("version", "")), "git_sha": text(f.attrs.get("git_sha", ""))}
     if "provenance" in f:
-        for key, value in f["provenance"].attrs.items():
-            if isinstance(value, bytes):
-                value = value.decode()
-            elif isinstance(value, np.generic):
-                value = value.item()
-            elif isinstance(value, np.ndarray):
-                value = [v.decode() if isinstance(v, bytes) else v for v in value.tolist()]
-            out[key] = value
+        out.update({key: _plain(value) for key, value in f["provenance"].attrs.items()})
     return out

@@ -101,12 +101,14 @@ class Run:
 
     @property
     def shard(self):
-        """(index, count) when the file is one shard of a larger run, None for a whole run or
-        a merged one."""
-        count = int(self.provenance.get("shard_count", 1) or 1)
-        if count <= 1 or "merged_from" in self.provenance:
+        """(index, count) when the file is one shard of a larger run (provenance shard "i/count"
+        with count > 1), None for a whole run or a merged one."""
+        if "merged_from" in self.provenance:
             return None
-        return int(self.provenance.get("shard_index", 0)), count
+        index, _, count = str(self.provenance.get("shard", "")).partition("/")
+        if not count or int(count) <= 1:
+            return None
+        return int(index), int(count)
 
     @property
     def complete(self):
