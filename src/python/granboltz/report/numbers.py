@@ -37,6 +37,7 @@ def num(x, sig=3):
 
 
 def pm(x, ci, sig=3):
+    """'x ± ci': a value with its confidence half-width (two significant digits)."""
     return f"{num(x, sig)} ± {num(ci, 2)}"
 
 
@@ -87,6 +88,7 @@ def order_fit(x, y):
 
 
 def order_text(p, se):
+    """A fitted order 'p ± se' ('p' alone without a standard error, '–' for nan)."""
     return DASH if math.isnan(p) else (f"{p:.2f}" if math.isnan(se) else f"{p:.2f} ± {se:.2f}")
 
 
