@@ -1,4 +1,4 @@
-"""The report generator (granboltz_report, report.py) and the LaTeX writer (latex_table.py):
+"""The report generator (granboltz.report, report.py) and the LaTeX writer (latex_table.py):
 comparisons and verdicts, Markdown and self-contained HTML, escaping."""
 
 import json
@@ -86,7 +86,7 @@ def _bench(tmp_path, name, seconds):
 
 
 def synthetic_report_inputs(tmp_path):
-    """Every kind of item, with tables computed by granboltz_common from fake runs."""
+    """Every kind of item, with tables computed by the granboltz package from fake runs."""
     pub = ROOT / "config" / "published"
     runs = [write_fake_run(tmp_path / f"g{n}.h5", n, eps=5.4 / n) for n in (64, 256, 1024, 4096)]
     read = [read_dsmc(p) for p in runs]

@@ -1,5 +1,5 @@
 """The numbers of the RW05 tables, the effort model and the GRW05 tail fits
-(granboltz_common), on synthetic inputs with known answers."""
+(the granboltz package), on synthetic inputs with known answers."""
 
 import math
 

@@ -2,8 +2,8 @@
 power-law bath, eq. (19), one per alpha. Left: the density of v1 (bins of params.bin_width) with
 the exact solution at alpha = M dashed: the intruder takes the colliding velocity (eq. 17), so its
 distribution is the bath's f(v, a) itself (T = M <v1^2> = alpha T_B); it is checked bin by bin
-(granboltz.tv06_histograms.histogram_check, |v1| <= check_range). Right (the paper's inset): log-log density of
-|v1| with a v^-4 guide; least-squares exponents on tail_window (theory -4) in the summary.
+(granboltz.tv06_histograms.histogram_check, |v1| <= check_range). Right (the paper's inset):
+log-log density of |v1| with a v^-4 guide; least-squares exponents on tail_window (theory -4).
 """
 
 import sys

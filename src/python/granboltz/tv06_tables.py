@@ -37,7 +37,8 @@ def read_tv06(path):
         c = config[model]
         run = {"path": str(path), "model": model, "config": c, "M": float(c["mass"]), "alpha": float(c["alpha"]),
                "N": int(f.attrs["ensembles"]), "collisions": int(c["collisions"]),
-               "T_B": float(read_dataset(f, "bath_temperature", path)), "events": {k: read_dataset(f, f"events/{k}", path) for k in f["events"]},
+               "T_B": float(read_dataset(f, "bath_temperature", path)),
+               "events": {k: read_dataset(f, f"events/{k}", path) for k in f["events"]},
                **run_attrs(f)}
         threads = int(f["provenance"].attrs.get("threads", 1)) if "provenance" in f else 1
         total = run["N"] * (run["collisions"] + int(c.get("warmup", run["collisions"] // 10)))
