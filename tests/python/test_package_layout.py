@@ -60,3 +60,23 @@ def test_check_tables_finds_one_changed_byte(tmp_path):
     assert "differs:" in bad.stderr and "+64,0.086" in bad.stderr and "not in the golden set" in bad.stderr
     (results / "t1.tex").unlink()
     assert "missing:" in subprocess.run(script, capture_output=True, text=True).stderr
+
+
+def test_check_tables_ignores_only_the_measured_wall_times(tmp_path):
+    golden, results = tmp_path / "golden", tmp_path / "results"
+    for d, wall, T in ((golden, "1.11657", "2.93183"), (results, "1.2034", "2.93183")):
+        d.mkdir()
+        (d / "t3.csv").write_text(f"K,T_inf,CPU,CF_CPU,wall_seconds\n32,{T},1.15,,{wall}\n")
+        (d / "t3.tex").write_text("% generated\n\\begin{tabular}{rrrrr}\n\\toprule\n"
+                                  "$K$ & $T_\\infty$ & CPU & CF\\_CPU & wall\\_seconds \\\\\n\\midrule\n"
+                                  f"32 & {T} & 1.15 & -- & {wall} \\\\\n\\bottomrule\n\\end{{tabular}}\n")
+    script = [sys.executable, str(ROOT / "tests" / "golden" / "check_tables.py"), str(results), str(golden)]
+    assert subprocess.run(script, capture_output=True, text=True).returncode == 0
+    for name in ("t3.csv", "t3.tex"):  # the same change of a value that is not a wall time is caught
+        path = results / name
+        path.write_text(path.read_text().replace("2.93183", "2.93184"))
+        out = subprocess.run(script, capture_output=True, text=True)
+        assert out.returncode == 1 and f"differs: {path}" in out.stderr
+        path.write_text(path.read_text().replace("2.93184", "2.93183"))
+    (results / "t3.csv").write_text("K,T_inf,CPU,CF_CPU,wall_seconds\n32,2.93183,1.15,,\n")  # a time gone missing
+    assert subprocess.run(script, capture_output=True, text=True).returncode == 1

@@ -14,10 +14,8 @@ import json  # noqa: E402
 import os  # noqa: E402
 import shutil  # noqa: E402
 
-import h5py  # noqa: E402
-
 from granboltz.files import read_csv, write_text  # noqa: E402
-from granboltz.io import run_attrs  # noqa: E402
+from granboltz.io import open_run, run_attrs  # noqa: E402
 from granboltz.report import build_document, render_html, render_md  # noqa: E402
 
 inp, items = snakemake.input, snakemake.params.manifest
@@ -35,7 +33,7 @@ def seconds(path):
 
 
 def attrs(path):
-    with h5py.File(path, "r") as f:
+    with open_run(path) as f:
         return run_attrs(f)
 
 
