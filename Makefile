@@ -27,7 +27,7 @@ python:
 	@if cd / && $(PYTHON) -c "import granboltz, os, sys; sys.exit(os.path.realpath(granboltz.__path__[0]) != os.path.realpath('$(CURDIR)/src/python/granboltz'))" 2>/dev/null; then \
 	  echo "python: granboltz from $(CURDIR)/src/python is installed"; \
 	else \
-	  $(PYTHON) -m pip install --user --break-system-packages --no-build-isolation --no-deps --quiet -e "$(CURDIR)"; \
+	  $(PYTHON) -m pip install --user --break-system-packages --no-build-isolation --no-deps --quiet --root-user-action=ignore -e "$(CURDIR)"; \
 	fi
 
 ## make test: build, then the C++ suite (ctest) and the Python suite (pytest)
