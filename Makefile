@@ -6,7 +6,7 @@ BUILD ?= build
 JOBS ?= 2
 PROFILE ?= config/quick.yaml
 
-.PHONY: all deps deps-browser build test test-cpp test-python test-sanitize reproduce paper bench sanitize clean
+.PHONY: all deps deps-browser build python test test-cpp test-python test-sanitize reproduce check-tables paper bench sanitize clean
 
 all: build
 
@@ -23,8 +23,19 @@ $(BUILD)/CMakeCache.txt:
 build: $(BUILD)/CMakeCache.txt
 	cmake --build $(BUILD) -j $(JOBS)
 
+## make python: install the Python package granboltz (src/python/granboltz) for Debian's
+## /usr/bin/python3, editable (this source tree) and offline (Debian's pip and setuptools, no
+## PyPI); skipped when this tree's package is already the one imported
+PYTHON := /usr/bin/python3
+python:
+	@if cd / && $(PYTHON) -c "import granboltz, os, sys; sys.exit(os.path.realpath(granboltz.__path__[0]) != os.path.realpath('$(CURDIR)/src/python/granboltz'))" 2>/dev/null; then \
+	  echo "python: granboltz from $(CURDIR)/src/python is installed"; \
+	else \
+	  $(PYTHON) -m pip install --user --break-system-packages --no-build-isolation --no-deps --quiet --root-user-action=ignore -e "$(CURDIR)"; \
+	fi
+
 ## make test: build, then the C++ suite (ctest) and the Python suite (pytest)
-test: deps build test-cpp test-python
+test: deps build python test-cpp test-python
 
 test-cpp:
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
@@ -57,11 +68,16 @@ bench: build
 	$(BUILD)/bench/granboltz_kernels --benchmark_repetitions=$(REPEAT) --benchmark_report_aggregates_only=true
 
 ## make reproduce: every table and figure at reduced size (config/quick.yaml)
-reproduce: deps build
+reproduce: deps build python
 	snakemake --snakefile workflow/Snakefile --configfile $(PROFILE) --cores $(JOBS) --keep-going
 
+## make check-tables: results/tables/ (after `make reproduce`, quick profile) byte for byte
+## against tests/golden/quick_tables/ (see the README to update them on purpose)
+check-tables:
+	$(PYTHON) tests/golden/check_tables.py results/tables tests/golden/quick_tables
+
 ## make paper: the papers' sizes (config/paper.yaml)
-paper: deps build
+paper: deps build python
 	snakemake --snakefile workflow/Snakefile --configfile config/paper.yaml --cores $(JOBS)
 
 clean:

@@ -13,9 +13,10 @@ import yaml
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 SCRIPTS = ROOT / "workflow" / "scripts"
-sys.path.insert(0, str(SCRIPTS))
+# the granboltz package from this source tree, ahead of any installed copy
+sys.path.insert(0, str(ROOT / "src" / "python"))
 
-import granboltz_common as gc  # noqa: E402
+from granboltz.theory import scheme_temperature, uncentred_expectation
 
 # GRW05 Example 3 (§5.2): T(t) = e^{-3t/4} + 8/3 (1 - e^{-3t/4}), eq. (34)
 EX3 = {"alpha": 0.5, "beta": 1.0, "gamma": 4.0, "kernel": {"lambda": 0, "C": 1 / (4 * np.pi)}}
@@ -106,10 +107,10 @@ def _attrs(f, config, N, wall=1.0):
 
 def write_fake_scheme_run(path, n, scheme, K, N=100, t_end=8.0, rel_ci=0.001):
     """An RW05 run of the Euler or Strang scheme (K steps on [0, t_end], observed at every step)
-    whose uncentred temperature is exactly the scheme's expectation (granboltz_common)."""
+    whose uncentred temperature is exactly the scheme's expectation (granboltz.theory)."""
     dt = t_end / K
     time = np.arange(K + 1) * dt
-    T = gc.uncentred_expectation(gc.scheme_temperature(scheme, time, dt, 1.0, 0.5, 1.0, 1.0, 1 / np.pi), time, 1.0,
+    T = uncentred_expectation(scheme_temperature(scheme, time, dt, 1.0, 0.5, 1.0, 1.0, 1 / np.pi), time, 1.0,
                                  1.0, n)
     dsmc = dict(RW05, particles=n, scheme=scheme, steps=K, initial={"temperature": 1.0}, t_end=t_end,
                 observe_every=dt)

@@ -1,4 +1,4 @@
-"""The report generator (granboltz_report, report.py) and the LaTeX writer (latex_table.py):
+"""The report generator (granboltz.report, report.py) and the LaTeX writer (latex_table.py):
 comparisons and verdicts, Markdown and self-contained HTML, escaping."""
 
 import json
@@ -9,8 +9,17 @@ import matplotlib
 import numpy as np
 import pytest
 
-import granboltz_common as gc
-import granboltz_report as gr
+from granboltz.dsmc import read_dsmc, read_histogram, read_steady
+from granboltz.files import read_csv, write_csv
+from granboltz.plotting import figure_summary, pyplot, save_figure
+from granboltz.report import (build_document, compare_convergence, num, render_html, render_md, rounding_ci,
+                              signed_z, verdict, z_score)
+from granboltz.report.latex import latex_escape, latex_table
+from granboltz.steady import (EFFORT_COLUMNS, effort_rows, REPLICA_COLUMNS, replica_rows, STEADY_COLUMNS,
+                              steady_rows)
+from granboltz.tables import (convergence_rows, RW05_TABLE1_COLUMNS, rw05_table1_rows, RW05_TABLE2_COLUMNS,
+                              TABLE_COLUMNS, timestep_rows)
+from granboltz.tails import TAIL_COLUMNS, tail_rows, WINDOW_COLUMNS
 from conftest import (ROOT, write_fake_histogram_run, write_fake_run, write_fake_scheme_run,
                       write_fake_steady_run)
 
@@ -19,12 +28,12 @@ matplotlib.use("Agg")
 
 # ----------------------------------------------------------------------------- small pieces
 def test_latex_escape_handles_every_special_character_once():
-    assert gr.latex_escape(r"a_b & 50% #1 {x} ~y ^z $w \q") == (
+    assert latex_escape(r"a_b & 50% #1 {x} ~y ^z $w \q") == (
         r"a\_b \& 50\% \#1 \{x\} \textasciitilde{}y \textasciicircum{}z \$w \textbackslash{}q")
 
 
 def test_latex_table_is_a_booktabs_tabular():
-    text = gr.latex_table(["n", "E_max", "kernel", "fit_window"], [["64", "0.0895", "hard_spheres", "[4.25, 4.6]"],
+    text = latex_table(["n", "E_max", "kernel", "fit_window"], [["64", "0.0895", "hard_spheres", "[4.25, 4.6]"],
                                                                     ["256", "", "vhs", "[1, 2]"]])
     lines = text.splitlines()
     assert lines[0] == r"\begin{tabular}{rrll}" and lines[1] == r"\toprule" and lines[3] == r"\midrule"
@@ -34,39 +43,39 @@ def test_latex_table_is_a_booktabs_tabular():
 
 
 def test_rounding_and_sigma_distances():
-    assert gr.rounding_ci("0.895e-01") == pytest.approx(3.2 * 1e-4 / math.sqrt(12))
-    assert gr.rounding_ci("2.9226") == pytest.approx(3.2 * 1e-4 / math.sqrt(12))
-    assert gr.rounding_ci("16384") == pytest.approx(3.2 / math.sqrt(12))
-    assert gr.z_score(1.0, 1.3, 0.3, 0.4) == pytest.approx(0.3 / (0.5 / 3.2))
-    assert gr.verdict(3.1).startswith("agrees") and "differs" in gr.verdict(3.3)
-    assert gr.signed_z(1.0, 0.9, 0.32) == "+1.0σ"
-    assert gr.num(0.0895) == "0.0895" and gr.num(3.05e-4) == "3.05e-4" and gr.num(None) == "–"
+    assert rounding_ci("0.895e-01") == pytest.approx(3.2 * 1e-4 / math.sqrt(12))
+    assert rounding_ci("2.9226") == pytest.approx(3.2 * 1e-4 / math.sqrt(12))
+    assert rounding_ci("16384") == pytest.approx(3.2 / math.sqrt(12))
+    assert z_score(1.0, 1.3, 0.3, 0.4) == pytest.approx(0.3 / (0.5 / 3.2))
+    assert verdict(3.1).startswith("agrees") and "differs" in verdict(3.3)
+    assert signed_z(1.0, 0.9, 0.32) == "+1.0σ"
+    assert num(0.0895) == "0.0895" and num(3.05e-4) == "3.05e-4" and num(None) == "–"
 
 
 def test_markdown_and_html_render_one_document():
     doc = [("h", 1, "Title"), ("p", "a `code` and **bold** [link](#title) <b>"), ("ul", ["one", "two|x"]),
            ("table", ["a", "b|c"], [["1", "x|y"]]), ("code", "k: v\n"), ("img", "fig.png", "alt")]
-    md = gr.render_md(doc)
+    md = render_md(doc)
     assert "# Title" in md and "| a | b\\|c |" in md and "![alt](../fig.png)" in md and "```\nk: v\n```" in md
-    page = gr.render_html(doc, lambda path: b"\x89PNG fake", "T")
+    page = render_html(doc, lambda path: b"\x89PNG fake", "T")
     assert '<h1 id="title">Title</h1>' in page and "<code>code</code>" in page and "<strong>bold</strong>" in page
     assert '<a href="#title">link</a>' in page and "&lt;b&gt;" in page and "data:image/png;base64," in page
 
 
 # ----------------------------------------------------------------------------- the whole report
 def _write_csv(rows, columns, path):
-    gc.write_csv(rows, columns, str(path))
+    write_csv(rows, columns, str(path))
     return str(path)
 
 
 def _figure(tmp_path, name):
-    plt = gc.pyplot()
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(2, 1.5))
     ax.plot([0, 1], [0, 1])
     png = tmp_path / f"{name}.png"
-    gc.save_figure(fig, [str(png)])
+    save_figure(fig, [str(png)])
     summary = tmp_path / f"{name}.json"
-    summary.write_text(json.dumps(gc.figure_summary(f"ours for {name}", f"short {name}")))
+    summary.write_text(json.dumps(figure_summary(f"ours for {name}", f"short {name}")))
     return str(png), str(summary)
 
 
@@ -77,10 +86,10 @@ def _bench(tmp_path, name, seconds):
 
 
 def synthetic_report_inputs(tmp_path):
-    """Every kind of item, with tables computed by granboltz_common from fake runs."""
+    """Every kind of item, with tables computed by the granboltz package from fake runs."""
     pub = ROOT / "config" / "published"
     runs = [write_fake_run(tmp_path / f"g{n}.h5", n, eps=5.4 / n) for n in (64, 256, 1024, 4096)]
-    read = [gc.read_run(p) for p in runs]
+    read = [read_dsmc(p) for p in runs]
     items, tables = [], {}
 
     def item(paper, name, kind, output, compare=None, published=None, summary=None, extra=(), run_paths=()):
@@ -90,34 +99,34 @@ def synthetic_report_inputs(tmp_path):
                       "compare": compare, "published": str(pub / f"{published}.csv") if published else None,
                       "summary": summary, "extra": list(extra)})
 
-    t = _write_csv(gc.convergence_rows(read), gc.TABLE_COLUMNS, tmp_path / "grw05_table1.csv")
+    t = _write_csv(convergence_rows(read), TABLE_COLUMNS, tmp_path / "grw05_table1.csv")
     item("GRW05", "Table 1", "table", t, "convergence", "grw05_table1", run_paths=runs)
-    rw = [gc.read_run(write_fake_run(tmp_path / f"r{n}.h5", n, eps=5.4 / n)) for n in (16, 64, 256)]
-    item("RW05", "Table 1", "table", _write_csv(gc.rw05_table1_rows(rw), gc.RW05_TABLE1_COLUMNS,
+    rw = [read_dsmc(write_fake_run(tmp_path / f"r{n}.h5", n, eps=5.4 / n)) for n in (16, 64, 256)]
+    item("RW05", "Table 1", "table", _write_csv(rw05_table1_rows(rw), RW05_TABLE1_COLUMNS,
                                                    tmp_path / "rw05_table1.csv"), "rw05_table1", "rw05_table1")
-    eu = [gc.read_run(write_fake_scheme_run(tmp_path / f"e{K}.h5", 4096, "euler", K)) for K in (4, 8, 16, 32)]
-    st = [gc.read_run(write_fake_scheme_run(tmp_path / f"s{K}.h5", 4096, "strang", K)) for K in (4, 8, 16, 32)]
-    item("RW05", "Table 2", "table", _write_csv(gc.timestep_rows(eu, st, 8.0), gc.RW05_TABLE2_COLUMNS,
+    eu = [read_dsmc(write_fake_scheme_run(tmp_path / f"e{K}.h5", 4096, "euler", K)) for K in (4, 8, 16, 32)]
+    st = [read_dsmc(write_fake_scheme_run(tmp_path / f"s{K}.h5", 4096, "strang", K)) for K in (4, 8, 16, 32)]
+    item("RW05", "Table 2", "table", _write_csv(timestep_rows(eu, st, 8.0), RW05_TABLE2_COLUMNS,
                                                    tmp_path / "rw05_table2.csv"), "rw05_table2", "rw05_table2")
-    nosplit = gc.read_steady(write_fake_steady_run(tmp_path / "n.h5", 65536, T_inf=2.668))
-    reps = [gc.read_steady(write_fake_steady_run(tmp_path / f"rep{i}.h5", 65536, T_inf=2.668 + 0.002 * i))
+    nosplit = read_steady(write_fake_steady_run(tmp_path / "n.h5", 65536, T_inf=2.668))
+    reps = [read_steady(write_fake_steady_run(tmp_path / f"rep{i}.h5", 65536, T_inf=2.668 + 0.002 * i))
             for i in range(3)]
-    replica = _write_csv(gc.replica_rows([reps], 8.0), gc.REPLICA_COLUMNS, tmp_path / "rw05_steady_replicas.csv")
+    replica = _write_csv(replica_rows([reps], 8.0), REPLICA_COLUMNS, tmp_path / "rw05_steady_replicas.csv")
     for name, layout, steadies in (
-            ("table3_euler", "steps", [gc.read_steady(write_fake_steady_run(tmp_path / f"se{K}.h5", 65536, "euler", K,
+            ("table3_euler", "steps", [read_steady(write_fake_steady_run(tmp_path / f"se{K}.h5", 65536, "euler", K,
                                                                             T_inf=2.92)) for K in (32, 256)]),
             ("table5_nosplit", "single", [nosplit])):
-        t = _write_csv(gc.steady_rows(steadies, nosplit, 8.0), gc.STEADY_COLUMNS[layout], tmp_path / f"rw05_{name}.csv")
+        t = _write_csv(steady_rows(steadies, nosplit, 8.0), STEADY_COLUMNS[layout], tmp_path / f"rw05_{name}.csv")
         item("RW05", f"Table {name[5]}", "table", t, "steady", f"rw05_{name}", extra=[replica])
     item("RW05", "Steady repeats", "table", replica, "replicas")
-    effort = gc.effort_rows([nosplit, gc.read_steady(tmp_path / "se32.h5")], 8.0, 8.0)
-    item("RW05", "Effort", "table", _write_csv(effort, gc.EFFORT_COLUMNS, tmp_path / "rw05_effort.csv"), "effort")
-    hists = {ex: gc.read_histogram(write_fake_histogram_run(tmp_path / f"h{ex}.h5", lam=lam, b=1 + lam / 2))
+    effort = effort_rows([nosplit, read_steady(tmp_path / "se32.h5")], 8.0, 8.0)
+    item("RW05", "Effort", "table", _write_csv(effort, EFFORT_COLUMNS, tmp_path / "rw05_effort.csv"), "effort")
+    hists = {ex: read_histogram(write_fake_histogram_run(tmp_path / f"h{ex}.h5", lam=lam, b=1 + lam / 2))
              for ex, lam in ((7, 0.0), (8, 1.0), (9, 0.5))}
     tails = {"k0": 1, "min_count": 1, "histogram": "density", "fit_window": [2.0, 3.0], "windows": [[1.0, 2.0]]}
-    rows, wrows = gc.tail_rows(hists, tails)
-    windows = _write_csv(wrows, gc.WINDOW_COLUMNS, tmp_path / "grw05_tail_windows.csv")
-    item("GRW05", "Tail exponents", "table", _write_csv(rows, gc.TAIL_COLUMNS, tmp_path / "grw05_tail_exponents.csv"),
+    rows, wrows = tail_rows(hists, tails)
+    windows = _write_csv(wrows, WINDOW_COLUMNS, tmp_path / "grw05_tail_windows.csv")
+    item("GRW05", "Tail exponents", "table", _write_csv(rows, TAIL_COLUMNS, tmp_path / "grw05_tail_exponents.csv"),
          "tails", "grw05_tail_exponents", extra=[windows])
     png, summary = _figure(tmp_path, "grw05_fig1")
     item("GRW05", "Fig. 1", "figure", png, summary=summary, run_paths=runs[:2])
@@ -211,21 +220,21 @@ def test_report_refuses_an_item_whose_files_are_not_inputs(tmp_path):
 
 
 def test_tv06_section_is_a_placeholder_without_items():
-    doc = gr.build_document([], {"tables": {}, "published": {}, "summaries": {}, "bench": {}, "runs": {}}, "",
+    doc = build_document([], {"tables": {}, "published": {}, "summaries": {}, "bench": {}, "runs": {}}, "",
                             {k: "x" for k in ("uname", "cpu", "cores", "python", "snakemake", "numpy", "scipy",
                                               "h5py", "matplotlib")}, "paper")
-    text = gr.render_md(doc)
+    text = render_md(doc)
     assert "**Profile: paper**" in text and "TV06 is not in the workflow yet" in text
     assert "report_item(\"TV06\"" in text
 
 
 def test_convergence_comparison_flags_a_published_value_far_from_the_exact_bias(tmp_path):
-    runs = [gc.read_run(write_fake_run(tmp_path / f"{n}.h5", n, eps=5.385 / n)) for n in (64, 256)]
-    gc.write_csv(gc.convergence_rows(runs), gc.TABLE_COLUMNS, str(tmp_path / "t.csv"))
-    ours = gc.read_csv(str(tmp_path / "t.csv"))
+    runs = [read_dsmc(write_fake_run(tmp_path / f"{n}.h5", n, eps=5.385 / n)) for n in (64, 256)]
+    write_csv(convergence_rows(runs), TABLE_COLUMNS, str(tmp_path / "t.csv"))
+    ours = read_csv(str(tmp_path / "t.csv"))
     published = [{"n": "64", "E_max": "0.150e+00", "CF": "", "V_inf": "0.1e-01"},
                  {"n": "256", "E_max": "0.210e-01", "CF": "7.1", "V_inf": "0.1e-01"}]
-    blocks, short = gr.compare_convergence("grw05_table1", ours, published)
+    blocks, short = compare_convergence("grw05_table1", ours, published)
     assert "differs" in short and "published n = 64 is" in short and "n = 256" not in short
     table = blocks[0][2]
     assert "**differs**" in table[0][9] and table[1][9].startswith("agrees")

@@ -11,8 +11,12 @@ import pytest
 import yaml
 from scipy import integrate
 
-import granboltz_report as gr
-import tv06_common as tv
+from granboltz.report import COMPARE, render_md
+from granboltz.theory import (colliding_density, colliding_mass, exact_temperature_ratio,
+                              fluxes_by_quadrature, gaussian_fluxes, gaussian_temperature_ratio, powerlaw_pdf,
+                              t_coverage)
+from granboltz.tv06_histograms import bin_average, folded_tail
+
 
 LAMBDA_P = 3.2
 
@@ -58,7 +62,7 @@ def write_intruder(path, M, alpha, per, bath="gaussian", a=1.0, method="gillespi
         _stat(f, "temperature_ratio", per)
         _stat(f, "mean_velocity", np.zeros(len(per)))
         if exact == "auto":
-            exact = tv.exact_temperature_ratio(bath, alpha, M)
+            exact = exact_temperature_ratio(bath, alpha, M)
         if exact is not None:
             f["exact/temperature_ratio"] = exact
         if histogram is not None:
@@ -112,7 +116,7 @@ def assert_figure(out):
 # ----------------------------------------------------------------------------- analytic (Figs. 1, 2)
 @pytest.mark.parametrize("a,rho", [(0.5, 1.0), (1.0, 1.0), (2.0, 0.7), (4.0, 3.0)])
 def test_gaussian_rates_at_rest_are_rho_over_sqrt_pi_a(a, rho):
-    plus, minus, phi = tv.gaussian_fluxes(0.0, a, rho)
+    plus, minus, phi = gaussian_fluxes(0.0, a, rho)
     assert phi == pytest.approx(rho / math.sqrt(math.pi * a), rel=1e-15)
     assert plus == pytest.approx(minus, rel=1e-15)
 
@@ -120,45 +124,45 @@ def test_gaussian_rates_at_rest_are_rho_over_sqrt_pi_a(a, rho):
 def test_gaussian_rates_are_eqs_15_16_and_match_quadrature_of_eqs_5_6():
     v1 = np.linspace(-3, 3, 25)
     for a in (0.5, 1.0, 2.0, 4.0):
-        plus, minus, phi = tv.gaussian_fluxes(v1, a, 1.3)
+        plus, minus, phi = gaussian_fluxes(v1, a, 1.3)
         np.testing.assert_allclose(plus - minus, 1.3 * v1, atol=1e-14)  # phi_+ - phi_- = rho v1
         printed = 1.3 * (np.exp(-a * v1**2) / np.sqrt(np.pi * a) + v1 * np.vectorize(math.erf)(v1 * np.sqrt(a)))
         np.testing.assert_allclose(phi, printed, rtol=1e-13)  # eq. (16) as printed
         for x, p, m in zip(v1, plus, minus):
-            qp, qm = tv.fluxes_by_quadrature(x, a, 1.3)
+            qp, qm = fluxes_by_quadrature(x, a, 1.3)
             assert p == pytest.approx(qp, rel=1e-9, abs=1e-13) and m == pytest.approx(qm, rel=1e-9, abs=1e-13)
-    assert tv.gaussian_fluxes(3.0, 1.0)[0] == pytest.approx(3.0, rel=1e-4)  # phi ~ |v1| far out
+    assert gaussian_fluxes(3.0, 1.0)[0] == pytest.approx(3.0, rel=1e-4)  # phi ~ |v1| far out
 
 
 @pytest.mark.parametrize("v1", [-2.0, -1.0, 0.0, 1.0, 2.0])
 @pytest.mark.parametrize("side", [+1, -1])
 def test_colliding_velocity_densities_integrate_to_one(v1, side):
     for a, rho in ((1.0, 1.0), (0.5, 2.0)):
-        total = sum(integrate.quad(lambda v: float(tv.colliding_density(v, v1, a, rho, side)), lo, hi)[0]
+        total = sum(integrate.quad(lambda v: float(colliding_density(v, v1, a, rho, side)), lo, hi)[0]
                     for lo, hi in ((-np.inf, v1), (v1, np.inf)))
         assert total == pytest.approx(1.0, abs=1e-10)
-        assert tv.colliding_mass(v1, a, -np.inf, np.inf, side) == pytest.approx(1.0, abs=1e-10)
+        assert colliding_mass(v1, a, -np.inf, np.inf, side) == pytest.approx(1.0, abs=1e-10)
     v = np.linspace(-6, 6, 121)
-    g = tv.colliding_density(v, v1, 1.0, side=side)
+    g = colliding_density(v, v1, 1.0, side=side)
     assert np.all(g >= 0) and np.all(g[(v - v1) * side > 0] == 0)  # g_+ lives on v <= v1, g_- on v >= v1
 
 
 def test_colliding_density_mean_is_the_ratio_of_moments():
     # for v1 = 0: <v> under g_+ = -<v^2 ; v<0> / <|v| ; v<0> = -sqrt(pi/(4a))
-    mean = integrate.quad(lambda v: v * float(tv.colliding_density(v, 0.0, 1.0)), -np.inf, 0)[0]
+    mean = integrate.quad(lambda v: v * float(colliding_density(v, 0.0, 1.0)), -np.inf, 0)[0]
     assert mean == pytest.approx(-math.sqrt(math.pi) / 2, rel=1e-9)
 
 
 def test_exact_temperature_ratios():
-    assert tv.gaussian_temperature_ratio(1.0, 0.3) == 1.0
-    assert tv.gaussian_temperature_ratio(0.0, 1.0) == pytest.approx(1 / 3)
-    assert tv.gaussian_temperature_ratio(0.5, 1.0) == pytest.approx(0.6)
-    assert tv.exact_temperature_ratio("powerlaw", 0.5, 0.5) == 0.5
-    assert tv.exact_temperature_ratio("powerlaw", 0.4, 0.5) is None
-    assert tv.exact_temperature_ratio("gaussian", 0.4, 0.5) == pytest.approx(1.4 / 3.2)
-    assert integrate.quad(lambda v: tv.powerlaw_pdf(v, 2.0), -np.inf, np.inf)[0] == pytest.approx(1.0)
-    assert integrate.quad(lambda v: v * v * tv.powerlaw_pdf(v, 2.0), -np.inf, np.inf)[0] == pytest.approx(0.5)
-    assert tv.t_coverage(10) == pytest.approx(0.9859, abs=1e-4) and tv.t_coverage(10**6) == pytest.approx(0.9986, abs=1e-4)
+    assert gaussian_temperature_ratio(1.0, 0.3) == 1.0
+    assert gaussian_temperature_ratio(0.0, 1.0) == pytest.approx(1 / 3)
+    assert gaussian_temperature_ratio(0.5, 1.0) == pytest.approx(0.6)
+    assert exact_temperature_ratio("powerlaw", 0.5, 0.5) == 0.5
+    assert exact_temperature_ratio("powerlaw", 0.4, 0.5) is None
+    assert exact_temperature_ratio("gaussian", 0.4, 0.5) == pytest.approx(1.4 / 3.2)
+    assert integrate.quad(lambda v: powerlaw_pdf(v, 2.0), -np.inf, np.inf)[0] == pytest.approx(1.0)
+    assert integrate.quad(lambda v: v * v * powerlaw_pdf(v, 2.0), -np.inf, np.inf)[0] == pytest.approx(0.5)
+    assert t_coverage(10) == pytest.approx(0.9859, abs=1e-4) and t_coverage(10**6) == pytest.approx(0.9986, abs=1e-4)
 
 
 def test_fig1_and_fig2_scripts_write_the_analytic_curves(run_script, tmp_path):
@@ -213,7 +217,7 @@ def test_fig4_marks_the_exact_points_and_compares_with_the_gaussian_curve(run_sc
     runs = []
     for M in (1.0, 0.5):
         for alpha in (0.0, 0.5, 1.0):
-            T = float(tv.gaussian_temperature_ratio(alpha, M)) * (1.2 if alpha < M else 1.0)
+            T = float(gaussian_temperature_ratio(alpha, M)) * (1.2 if alpha < M else 1.0)
             runs.append(write_intruder(tmp_path / f"{M}_{alpha}.h5", M, alpha, [T - 0.01, T, T + 0.01],
                                        bath="powerlaw"))
     out = figure_outputs(tmp_path, "tv06_fig4")
@@ -223,14 +227,14 @@ def test_fig4_marks_the_exact_points_and_compares_with_the_gaussian_curve(run_sc
     assert all(r["within_ci"] == "yes" for r in rows if r["exact"])
     summary = assert_figure(out)
     assert "M = 0.5: within 0.0 % of eq. (18) for α > M" in summary["short"] and "up to 20 % above" in summary["ours"]
-    blocks, short = gr.COMPARE["tv06_temperature"]("tv06_fig4", ours=rows)
-    assert "indicative" in short and "infinite variance" in gr.render_md(blocks)
+    blocks, short = COMPARE["tv06_temperature"]("tv06_fig4", ours=rows)
+    assert "indicative" in short and "infinite variance" in render_md(blocks)
 
 
 # ----------------------------------------------------------------------------- Fig. 5
 def _powerlaw_histogram(a=1.0, R=50.0, bins=10000):
     edges = np.linspace(-R, R, bins + 1)
-    return edges, tv.bin_average(lambda v: tv.powerlaw_pdf(v, a), edges), np.full(bins, 1e-3)
+    return edges, bin_average(lambda v: powerlaw_pdf(v, a), edges), np.full(bins, 1e-3)
 
 
 def test_fig5_finds_the_v_minus_4_tail_and_the_exact_solution(run_script, tmp_path):
@@ -254,7 +258,7 @@ def test_folded_tail_rebins_exactly():
     edges = np.linspace(-10, 10, 2001)
     counts = np.arange(2000, dtype=np.uint64)
     hist = {"edges": edges, "counts": counts, "overflow": np.array([5, 7], dtype=np.uint64)}
-    v, density, sums = tv.folded_tail(hist, 0.5, bins_per_decade=5)
+    v, density, sums = folded_tail(hist, 0.5, bins_per_decade=5)
     centres = 0.5 * (edges[1:] + edges[:-1])
     assert sums.sum() == counts[np.abs(centres) >= 0.5].sum()
     assert np.all(np.diff(v) > 0) and np.all(density > 0)
@@ -280,14 +284,14 @@ def test_fig7_table_gives_R_and_the_temperature_ordering(run_script, tmp_path):
     summary = assert_figure(out)
     assert summary["numbers"]["ordered"] == 2 and summary["numbers"]["inelastic"] == 3
     assert summary["numbers"]["R_low_alpha"] == pytest.approx({"0.1": 1.055, "1": 1.005})
-    blocks, short = gr.COMPARE["tv06_needle"]("tv06_fig7", ours=rows)
+    blocks, short = COMPARE["tv06_needle"]("tv06_fig7", ours=rows)
     assert short.startswith("check") and "2/3 points" in short
 
 
 def test_fig8_fits_a_gaussian_to_a_gaussian(run_script, tmp_path):
     edges = np.linspace(-12, 12, 241)
     sigma = 1.8
-    density = tv.bin_average(lambda w: np.exp(-w**2 / (2 * sigma**2)) / math.sqrt(2 * math.pi * sigma**2), edges)
+    density = bin_average(lambda w: np.exp(-w**2 / (2 * sigma**2)) / math.sqrt(2 * math.pi * sigma**2), edges)
     runs = [write_needle(tmp_path / "n.h5", 0.1, 0.1, [1.05] * 4, [0.066] * 4, [0.053] * 4,
                          omega=(edges, density, np.full(240, 1e-4)))]
     out = figure_outputs(tmp_path, "tv06_fig8")
@@ -313,7 +317,7 @@ def test_dsmc_table_compares_the_two_methods_with_the_joint_ci(run_script, tmp_p
     assert float(rows[0]["joint_ci"]) == pytest.approx(math.hypot(ci_g, ci_d), rel=1e-5)
     assert float(rows[0]["exact"]) == pytest.approx(0.6) and float(rows[0]["candidates_per_collision"]) == 13.0
     assert float(rows[0]["ns_gillespie"]) == pytest.approx(1.0 * 2 / (3 * 1100) * 1e9, rel=1e-4)
-    blocks, short = gr.COMPARE["tv06_dsmc"]("tv06_dsmc", ours=rows)
+    blocks, short = COMPARE["tv06_dsmc"]("tv06_dsmc", ours=rows)
     assert short.startswith("1 point(s) differ") and "1/2 points" in short
 
 

@@ -150,7 +150,7 @@ def report_item(paper, item, rule, kind, outputs, what, runs=(), run_rule=None, 
     benchmark go to the report); kind: "table" or "figure"; outputs: the csv (table) or the
     png (figure) shown; what: one line on what the paper shows; runs: the simulator outputs
     behind it (their benchmarks are its run time; run_rule makes them); compare: name of the
-    comparison in granboltz_report (tables with published numbers); published: name of the
+    comparison in granboltz.report (tables with published numbers); published: name of the
     published CSV in config.published; summary: JSON written by a figure rule with the line
     "ours"; extra: further generated CSVs shown with the item (e.g. a window table).
     """

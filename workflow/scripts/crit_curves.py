@@ -3,7 +3,7 @@
 params.label = "n" (Fig. 3): no-splitting runs for several (n, N), one curve each ("from below"
 n = 256, 1024, 4096). params.label = "scheme" (Fig. 4): the no-splitting (thick), Strang and
 Euler runs (thin) at one n, N, K. Crit is eq. (29) of the ensemble means of the moments
-(granboltz_common.crit_of_means: it starts from zero for the Maxwellian of eq. 26, as in the
+(granboltz.dsmc.crit_of_means: it starts from zero for the Maxwellian of eq. 26, as in the
 paper; the mean of the per-ensemble Crit, the simulator's /crit, carries a sampling bias of
 order 1/sqrt(n) and is only given in the summary). The summary gives Crit(t_end) +- ci.
 """
@@ -12,11 +12,13 @@ import sys
 
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
-import granboltz_common as gc  # noqa: E402
+from granboltz.dsmc import crit_of_means, read_dsmc  # noqa: E402
+from granboltz.files import write_json  # noqa: E402
+from granboltz.plotting import figure_summary, pyplot, save_figure  # noqa: E402
 
 NAMES = {"nosplit": "no-splitting", "strang": "Strang splitting", "euler": "Euler splitting"}
-plt = gc.pyplot()
-runs = [gc.read_run(path) for path in snakemake.input.runs]
+plt = pyplot()
+runs = [read_dsmc(path) for path in snakemake.input.runs]
 by_scheme = snakemake.params.label == "scheme"
 if not by_scheme:
     runs.sort(key=lambda r: r.n)
@@ -24,7 +26,7 @@ if not by_scheme:
 fig, ax = plt.subplots(figsize=(4.6, 3.2))
 ends, per_ensemble = [], {}
 for run, dashes in zip(runs, [(1, 0), (6, 2), (2, 1.5), (4, 1, 1, 1)]):
-    crit, ci = gc.crit_of_means(run)
+    crit, ci = crit_of_means(run)
     if by_scheme:
         name = NAMES[run.scheme]
         label = name + ("" if run.dt is None else f", $\\Delta t = {run.dt:g}$")
@@ -43,7 +45,7 @@ ax.set_xlabel("$t$")
 ax.set_ylabel("Crit$(t)$")
 ax.legend(loc="lower right")
 fig.tight_layout()
-gc.save_figure(fig, [snakemake.output.png, snakemake.output.pdf])
+save_figure(fig, [snakemake.output.png, snakemake.output.pdf])
 
 t_end = runs[0].time[-1]
 text = f"Crit({t_end:g}) = " + ", ".join(f"{c:.4f} ± {ci:.4f} ({name})" for name, c, ci in ends)
@@ -54,10 +56,10 @@ if by_scheme:
     text += "; differences to no-splitting: " + ", ".join(
         f"{name} {c - ref[1]:+.4f} ({abs(c - ref[1]) / max(ci, ref[2]):.1f} ci)" for name, c, ci in ends[1:])
 else:
-    start = ", ".join(f"{gc.crit_of_means(run)[0][0]:.4f}" for run in runs)
+    start = ", ".join(f"{crit_of_means(run)[0][0]:.4f}" for run in runs)
     order = all(a[1] < b[1] for a, b in zip(ends, ends[1:]))
     text += f"; Crit(0) = {start}" + ("; increasing in n (from below)" if order else "; order in n within the noise")
-    short = f"from Crit(0) ≤ {max(gc.crit_of_means(run)[0][0] for run in runs):.3f} to " + ", ".join(
+    short = f"from Crit(0) ≤ {max(crit_of_means(run)[0][0] for run in runs):.3f} to " + ", ".join(
         f"{c:.3f}" for _, c, _ in ends) + (" (increasing in n)" if order else "")
-gc.write_json(gc.figure_summary(text, short, crit_end={name: [c, ci] for name, c, ci in ends}, per_ensemble=per_ensemble),
+write_json(figure_summary(text, short, crit_end={name: [c, ci] for name, c, ci in ends}, per_ensemble=per_ensemble),
               snakemake.output.summary)

@@ -11,11 +11,13 @@ import sys
 
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
-import granboltz_common as gc  # noqa: E402
+from granboltz.dsmc import read_histogram  # noqa: E402
+from granboltz.files import write_json  # noqa: E402
+from granboltz.plotting import figure_summary, pyplot, save_figure  # noqa: E402
 
-plt = gc.pyplot()
+plt = pyplot()
 (path,) = snakemake.input.runs
-hist = gc.read_histogram(path)
+hist = read_histogram(path)
 r = hist["edges"][1:]  # r_k = k h, k = 1..K (paper's 1-based shells)
 first, last = hist["mean"][0, :-1], hist["mean"][-1, :-1]
 T0, T = float(hist["T"][0]), float(hist["T"][-1])
@@ -32,7 +34,7 @@ right.set_ylim(0, 1.15 * last[zoom].max())
 left.set_ylabel("$f_k$")
 left.legend(loc="upper right")
 fig.tight_layout()
-gc.save_figure(fig, [snakemake.output.png, snakemake.output.pdf])
+save_figure(fig, [snakemake.output.png, snakemake.output.pdf])
 
 lo = snakemake.params.right[0]
 tail_first, tail_last = float(first[r > lo].sum()), float(last[r > lo].sum())
@@ -41,5 +43,5 @@ text = (f"T = {T0:.3f} initially, {T:.3f} at t = {hist['time'][-1]:g}; beyond r 
         f"{tail_last:.3f} of the particles (initial {tail_first:.2g}), its last non-empty shell ends at r = {r_max:g}")
 print(text, file=sys.stderr)
 short = f"T from {T0:.3g} to {T:.4g}; {tail_last:.3f} of the particles beyond r = {lo:g} (initially {tail_first:.2g})"
-gc.write_json(gc.figure_summary(text, short, T_initial=T0, T_final=T, tail_final=tail_last, tail_initial=tail_first,
+write_json(figure_summary(text, short, T_initial=T0, T_final=T, tail_final=tail_last, tail_initial=tail_first,
                                 r_max=r_max, n=hist["n"], N=hist["N"]), snakemake.output.summary)

@@ -1,7 +1,7 @@
 """The reproduction report of every GRW05, RW05 and TV06 item:
 paper/reproduction.md (for a code host) and paper/reproduction.html (self-contained: figures
 as base64 data URIs, inline CSS, no external reference), both rendered from one document
-(granboltz_report.build_document): published numbers and ours side by side with confidence
+(granboltz.report.build_document): published numbers and ours side by side with confidence
 intervals, convergence factors and verdicts, every figure with its caption, provenance.
 """
 
@@ -14,10 +14,9 @@ import json  # noqa: E402
 import os  # noqa: E402
 import shutil  # noqa: E402
 
-import h5py  # noqa: E402
-
-import granboltz_common as gc  # noqa: E402
-import granboltz_report as gr  # noqa: E402
+from granboltz.files import read_csv, write_text  # noqa: E402
+from granboltz.io import open_run, run_attrs  # noqa: E402
+from granboltz.report import build_document, render_html, render_md  # noqa: E402
 
 inp, items = snakemake.input, snakemake.params.manifest
 available = set(inp)
@@ -34,18 +33,18 @@ def seconds(path):
 
 
 def attrs(path):
-    with h5py.File(path, "r") as f:
-        return gc.run_attrs(f)
+    with open_run(path) as f:
+        return run_attrs(f)
 
 
 data = {
-    "tables": {path: gc.read_csv(path) for path in inp.tables},
-    "published": {path: gc.read_csv(path) for path in inp.published},
+    "tables": {path: read_csv(path) for path in inp.tables},
+    "published": {path: read_csv(path) for path in inp.published},
     "summaries": {path: json.load(open(path)) for path in inp.summaries},
     "bench": {path: seconds(path) for path in inp.benchmarks},
     "runs": {path: attrs(path) for path in inp.runs},
 }
-doc = gr.build_document(items, data, snakemake.params.config, snakemake.params.machine, snakemake.params.profile)
+doc = build_document(items, data, snakemake.params.config, snakemake.params.machine, snakemake.params.profile)
 
 
 def read_image(path):
@@ -63,6 +62,6 @@ for directory, paths in ((snakemake.output.figures, inp.figures),
         for p in [path] + ([path[:-4] + ".pdf"] if path.endswith(".png") else []):
             if os.path.exists(p):
                 shutil.copyfile(p, os.path.join(directory, os.path.basename(p)))
-gc.write_text(gr.render_md(doc, image_prefix=""), snakemake.output.md)
-gc.write_text(gr.render_html(doc, read_image, "Reproduction of GRW05, RW05 and TV06"), snakemake.output.html)
+write_text(render_md(doc, image_prefix=""), snakemake.output.md)
+write_text(render_html(doc, read_image, "Reproduction of GRW05, RW05 and TV06"), snakemake.output.html)
 print(f"{len(items)} items, {len(data['runs'])} runs, {len(doc)} blocks", file=sys.stderr)

@@ -5,17 +5,19 @@ temperature against eq. (28) at t_K and over all t_k, Conf_end, the relative con
 half-width at t_K (lambda_p = 3.2), and their convergence factors CF (quotients of consecutive
 rows: about 4 for the errors, O(1/n), and 2 for Conf_end, O(1/sqrt(n))). The temperature is the
 uncentred estimator phi(v) = |v|^2/3 that RW05 §4.1 uses. Columns:
-granboltz_common.RW05_TABLE1_COLUMNS (the paper's, then ours).
+granboltz.tables.RW05_TABLE1_COLUMNS (the paper's, then ours).
 """
 
 import sys
 
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
-import granboltz_common as gc  # noqa: E402
+from granboltz.dsmc import read_dsmc  # noqa: E402
+from granboltz.files import write_csv  # noqa: E402
+from granboltz.tables import RW05_TABLE1_COLUMNS, rw05_table1_rows  # noqa: E402
 
-runs = [gc.read_run(path) for path in snakemake.input.runs]
-rows = gc.rw05_table1_rows(runs)
-gc.write_csv(rows, gc.RW05_TABLE1_COLUMNS, snakemake.output.csv)
+runs = [read_dsmc(path) for path in snakemake.input.runs]
+rows = rw05_table1_rows(runs)
+write_csv(rows, RW05_TABLE1_COLUMNS, snakemake.output.csv)
 for row in rows:
-    print(", ".join(f"{key}={row[key]}" for key in gc.RW05_TABLE1_COLUMNS), file=sys.stderr)
+    print(", ".join(f"{key}={row[key]}" for key in RW05_TABLE1_COLUMNS), file=sys.stderr)

@@ -5,17 +5,19 @@ run, taken as independent ("big enough to assure almost independent observations
 no-splitting run (input nosplit) and one Euler run (input euler) are repeated with other seeds:
 the sample standard deviation of their T_inf against the nominal sigma = Conf / lambda_p, the
 mean against the exact expectation T_expected, and the lag-1 autocorrelation of the
-observations. Columns: granboltz_common.REPLICA_COLUMNS.
+observations. Columns: granboltz.steady.REPLICA_COLUMNS.
 """
 
 import sys
 
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
-import granboltz_common as gc  # noqa: E402
+from granboltz.dsmc import read_steady  # noqa: E402
+from granboltz.files import write_csv  # noqa: E402
+from granboltz.steady import REPLICA_COLUMNS, replica_rows  # noqa: E402
 
-groups = [[gc.read_steady(path) for path in paths] for paths in (snakemake.input.nosplit, snakemake.input.euler)]
-rows = gc.replica_rows(groups, snakemake.params.dt_unit)
-gc.write_csv(rows, gc.REPLICA_COLUMNS, snakemake.output.csv, digits=6)
+groups = [[read_steady(path) for path in paths] for paths in (snakemake.input.nosplit, snakemake.input.euler)]
+rows = replica_rows(groups, snakemake.params.dt_unit)
+write_csv(rows, REPLICA_COLUMNS, snakemake.output.csv, digits=6)
 for row in rows:
     print(row, file=sys.stderr)

@@ -13,15 +13,17 @@ import sys
 
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
-import granboltz_common as gc  # noqa: E402
+from granboltz.dsmc import read_steady  # noqa: E402
+from granboltz.files import write_csv  # noqa: E402
+from granboltz.steady import STEADY_COLUMNS, steady_rows  # noqa: E402
 
-steadies = [gc.read_steady(path) for path in snakemake.input.runs]
+steadies = [read_steady(path) for path in snakemake.input.runs]
 (path,) = set(snakemake.input.nosplit)
-nosplit = gc.read_steady(path)
-rows = gc.steady_rows(steadies, nosplit, snakemake.params.dt_unit)
+nosplit = read_steady(path)
+rows = steady_rows(steadies, nosplit, snakemake.params.dt_unit)
 if snakemake.params.layout == "methods":
     order = {"euler": 0, "strang": 1, "nosplit": 2}
     rows.sort(key=lambda r: order[r["method"]])
-gc.write_csv(rows, gc.STEADY_COLUMNS[snakemake.params.layout], snakemake.output.csv, digits=6)
+write_csv(rows, STEADY_COLUMNS[snakemake.params.layout], snakemake.output.csv, digits=6)
 for row in rows:
     print(row, file=sys.stderr)

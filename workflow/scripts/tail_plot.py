@@ -15,14 +15,17 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
 import numpy as np  # noqa: E402
 
-import granboltz_common as gc  # noqa: E402
+from granboltz.dsmc import read_histogram  # noqa: E402
+from granboltz.files import write_json  # noqa: E402
+from granboltz.plotting import figure_summary, pyplot, save_figure  # noqa: E402
+from granboltz.tails import fit_tail, tail_points, window_text  # noqa: E402
 
-plt = gc.pyplot()
+plt = pyplot()
 tails, c = snakemake.params.tails, snakemake.params.guide_intercept
 (path,) = snakemake.input.runs
-hist = gc.read_histogram(path)
-k, x, y = gc.tail_points(hist, tails["k0"], tails["min_count"], tails["histogram"])
-fit = gc.fit_tail(x, y, tails["fit_window"])
+hist = read_histogram(path)
+k, x, y = tail_points(hist, tails["k0"], tails["min_count"], tails["histogram"])
+fit = fit_tail(x, y, tails["fit_window"])
 lam = hist["config"]["dsmc"]["kernel"]["lambda"]
 
 fig, ax = plt.subplots(figsize=(4.6, 3.4))
@@ -45,12 +48,12 @@ ax.set_xlabel(r"$x_k = \ln(k - k_0)$")
 ax.set_ylabel(r"$y_k = \ln(\ln f_{k_0} - \ln f_k)$")
 ax.legend(loc="upper left")
 fig.tight_layout()
-gc.save_figure(fig, [snakemake.output.png, snakemake.output.pdf])
+save_figure(fig, [snakemake.output.png, snakemake.output.pdf])
 
 text = (f"Example {snakemake.params.example} (λ = {lam:g}): y_k nearly linear up to x = {x.max():.2f} (k = {k.max()}); "
-        f"least-squares slope b = {fit['b']:.3f} ± {fit['b_stderr']:.3f} on x ∈ {gc.window_text(tails['fit_window'])}"
+        f"least-squares slope b = {fit['b']:.3f} ± {fit['b_stderr']:.3f} on x ∈ {window_text(tails['fit_window'])}"
         f" ({fit['points']} shells), theory {1 + lam / 2:g}")
 print(text, file=sys.stderr)
-short = f"b = {fit['b']:.3f} ± {fit['b_stderr']:.3f} on {gc.window_text(tails['fit_window'])} (theory {1 + lam / 2:g})"
-gc.write_json(gc.figure_summary(text, short, **fit, x_last=float(x.max()), n=hist["n"], N=hist["N"]),
+short = f"b = {fit['b']:.3f} ± {fit['b_stderr']:.3f} on {window_text(tails['fit_window'])} (theory {1 + lam / 2:g})"
+write_json(figure_summary(text, short, **fit, x_last=float(x.max()), n=hist["n"], N=hist["N"]),
               snakemake.output.summary)

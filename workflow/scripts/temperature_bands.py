@@ -14,10 +14,13 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
 import numpy as np  # noqa: E402
 
-import granboltz_common as gc  # noqa: E402
+from granboltz.dsmc import read_dsmc  # noqa: E402
+from granboltz.files import write_json  # noqa: E402
+from granboltz.plotting import figure_summary, pyplot, save_figure  # noqa: E402
+from granboltz.theory import analytic_temperature, run_analytic_temperature  # noqa: E402
 
-plt = gc.pyplot()
-runs = sorted((gc.read_run(path) for path in snakemake.input.runs), key=lambda r: r.n)
+plt = pyplot()
+runs = sorted((read_dsmc(path) for path in snakemake.input.runs), key=lambda r: r.n)
 t_min, t_max = snakemake.params.t_range
 
 ncols = 2 if len(runs) > 1 else 1
@@ -28,10 +31,10 @@ inside = {}
 for ax, run in zip(axes.flat, runs):
     shown = (run.time >= t_min - 1e-12) & (run.time <= t_max + 1e-12)
     t, mean, ci = run.time[shown], run.T[shown], run.T_ci[shown]
-    exact_t = gc.run_analytic_temperature(run)[shown]
+    exact_t = run_analytic_temperature(run)[shown]
     inside[run.n] = (int(np.sum(np.abs(mean - exact_t) <= ci)), int(t.size))
     d = run.dsmc
-    exact = gc.analytic_temperature(t_fine, d["initial"]["temperature"], d["alpha"], d["beta"], d["gamma"],
+    exact = analytic_temperature(t_fine, d["initial"]["temperature"], d["alpha"], d["beta"], d["gamma"],
                                     d["kernel"]["C"])
     ax.plot(t, mean + ci, "-", color="black", label="confidence interval (31)")
     ax.plot(t, mean - ci, "-", color="black")
@@ -45,10 +48,10 @@ for ax in axes.flat[len(runs):]:
     ax.set_visible(False)
 axes.flat[0].legend(loc="lower right")
 fig.tight_layout()
-gc.save_figure(fig, [snakemake.output.png, snakemake.output.pdf])
+save_figure(fig, [snakemake.output.png, snakemake.output.pdf])
 
 text = "; ".join(f"n = {n}: analytic curve inside the band at {k}/{m} of the t_m in [{t_min:g}, {t_max:g}]"
                  for n, (k, m) in inside.items())
 short = "analytic curve inside the band at " + ", ".join(f"{k}/{m} (n = {n})" for n, (k, m) in inside.items())
-gc.write_json(gc.figure_summary(text, short, inside={str(n): v for n, v in inside.items()}, N=runs[0].N),
+write_json(figure_summary(text, short, inside={str(n): v for n, v in inside.items()}, N=runs[0].N),
               snakemake.output.summary)

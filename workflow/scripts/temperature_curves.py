@@ -12,10 +12,12 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
 import numpy as np  # noqa: E402
 
-import granboltz_common as gc  # noqa: E402
+from granboltz.dsmc import read_dsmc  # noqa: E402
+from granboltz.files import write_json  # noqa: E402
+from granboltz.plotting import figure_summary, pyplot, save_figure  # noqa: E402
 
-plt = gc.pyplot()
-runs = sorted((gc.read_run(path) for path in snakemake.input.runs), key=lambda r: r.n)
+plt = pyplot()
+runs = sorted((read_dsmc(path) for path in snakemake.input.runs), key=lambda r: r.n)
 t_min, t_max = snakemake.params.t_range
 
 fig, ax = plt.subplots(figsize=(4.6, 3.2))
@@ -29,7 +31,7 @@ ax.set_xlabel("$t$")
 ax.set_ylabel("$T(t)$")
 ax.legend(loc="best")
 fig.tight_layout()
-gc.save_figure(fig, [snakemake.output.png, snakemake.output.pdf])
+save_figure(fig, [snakemake.output.png, snakemake.output.pdf])
 
 end = [(run.n, float(run.T[-1]), float(run.T_ci[-1])) for run in runs]
 gaps = [a[1] - b[1] for a, b in zip(end, end[1:])]
@@ -39,5 +41,5 @@ text = (f"T({runs[0].time[-1]:g}) = " + ", ".join(f"{T:.4f} ± {ci:.4f} (n = {n}
         + (", gaps between consecutive n shrinking (convergence)" if shrink else ""))
 short = ("curves ordered from above in n" if order else "curves not ordered in n") + (
     ", converging" if shrink else "")
-gc.write_json(gc.figure_summary(text, short, T_end={str(n): [T, ci] for n, T, ci in end}, gaps=gaps, N=runs[0].N),
+write_json(figure_summary(text, short, T_end={str(n): [T, ci] for n, T, ci in end}, gaps=gaps, N=runs[0].N),
               snakemake.output.summary)

@@ -2,7 +2,7 @@
 
 Left: the total rate phi(v1) = phi_+ + phi_- (eq. 16) for each a of params.a (top to bottom as
 a grows, as in the paper); right: phi_+(v1) (solid) and phi_-(v1) (dashed), eq. (15). Closed
-forms (tv06_common.gaussian_fluxes), checked against quadrature of eqs. (5)-(6), phi(0) =
+forms (granboltz.theory.gaussian_fluxes), checked against quadrature of eqs. (5)-(6), phi(0) =
 rho/sqrt(pi a) and phi_+ - phi_- = rho v1. The table has every curve on a grid of params.table_step.
 """
 
@@ -12,10 +12,11 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
 import numpy as np  # noqa: E402
 
-import granboltz_common as gc  # noqa: E402
-import tv06_common as tv  # noqa: E402
+from granboltz.files import write_csv, write_json  # noqa: E402
+from granboltz.plotting import figure_summary, pyplot, save_figure  # noqa: E402
+from granboltz.theory import fluxes_by_quadrature, gaussian_fluxes  # noqa: E402
 
-plt = gc.pyplot()
+plt = pyplot()
 p = snakemake.params
 lo, hi = p.v1_range
 grid = np.round(np.arange(lo, hi + p.table_step / 2, p.table_step), 10)
@@ -24,15 +25,15 @@ fine = np.linspace(lo, hi, 601)
 rows, err_quad, err_zero, err_diff = [], 0.0, 0.0, 0.0
 fig, (left, right) = plt.subplots(1, 2, figsize=(6.3, 2.7))
 for k, a in enumerate(p.a):
-    plus, minus, phi = tv.gaussian_fluxes(grid, a, p.rho)
+    plus, minus, phi = gaussian_fluxes(grid, a, p.rho)
     for v1, fp, fm, f in zip(grid, plus, minus, phi):
-        qp, qm = tv.fluxes_by_quadrature(v1, a, p.rho)
+        qp, qm = fluxes_by_quadrature(v1, a, p.rho)
         err_quad = max(err_quad, abs(qp - fp) / max(qp, 1e-8), abs(qm - fm) / max(qm, 1e-8))
         rows.append({"a": a, "v1": v1, "phi_plus": fp, "phi_minus": fm, "phi": f, "phi_plus_quadrature": qp,
                      "phi_minus_quadrature": qm})
-    err_zero = max(err_zero, abs(float(tv.gaussian_fluxes(0.0, a, p.rho)[2]) * np.sqrt(np.pi * a) / p.rho - 1))
+    err_zero = max(err_zero, abs(float(gaussian_fluxes(0.0, a, p.rho)[2]) * np.sqrt(np.pi * a) / p.rho - 1))
     err_diff = max(err_diff, float(np.max(np.abs(plus - minus - p.rho * grid))))
-    fp, fm, f = tv.gaussian_fluxes(fine, a, p.rho)
+    fp, fm, f = gaussian_fluxes(fine, a, p.rho)
     shade = str(0.55 * k / max(1, len(p.a) - 1))
     left.plot(fine, f, color=shade, label=f"$a = {a:g}$")
     right.plot(fine, fp, color=shade, label=f"$a = {a:g}$")
@@ -45,8 +46,8 @@ for ax in (left, right):
     ax.set_ylim(bottom=0)
 left.legend(loc="upper center")
 fig.tight_layout()
-gc.save_figure(fig, [snakemake.output.png, snakemake.output.pdf])
-gc.write_csv(rows, list(rows[0]), snakemake.output.csv, digits=12)
+save_figure(fig, [snakemake.output.png, snakemake.output.pdf])
+write_csv(rows, list(rows[0]), snakemake.output.csv, digits=12)
 
 a_text = ", ".join(f"{a:g}" for a in p.a)
 ours = (f"eqs. (15)–(16) for a = {a_text} (ρ = {p.rho:g}) on v1 ∈ [{lo:g}, {hi:g}]; on the grid of "
@@ -55,5 +56,5 @@ ours = (f"eqs. (15)–(16) for a = {a_text} (ρ = {p.rho:g}) on v1 ∈ [{lo:g}, 
         "the rates grow like |v1| for large |v1| and fall with a at v1 = 0, top to bottom as in the paper")
 short = f"analytic; closed forms = quadrature of eqs. (5)–(6) to {err_quad:.0e}; φ(0) = ρ/√(πa)"
 print(ours, file=sys.stderr)
-gc.write_json(gc.figure_summary(ours, short, quadrature_rel_error=err_quad, phi0_rel_error=err_zero,
+write_json(figure_summary(ours, short, quadrature_rel_error=err_quad, phi0_rel_error=err_zero,
                                 difference_error=err_diff), snakemake.output.summary)

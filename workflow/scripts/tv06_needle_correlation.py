@@ -2,7 +2,7 @@
 
 Fig. 7: the correlation coefficient R = <v^2 w^2>/(<v^2><w^2>) (eq. 30) against alpha for each
 M, with 99.9 % confidence intervals over the N ensembles; R = 1 at alpha = 1 (equipartition),
-the exact check. The table (tv06_common.needle_rows) adds T_trans/T_B and T_rot/T_B and checks
+the exact check. The table (granboltz.tv06_tables.needle_rows) adds T_trans/T_B and T_rot/T_B and checks
 the statement of §3.2, T_B > T_translational > T_rotational for alpha < 1, point by point.
 """
 
@@ -11,15 +11,17 @@ import sys
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
 
-import granboltz_common as gc  # noqa: E402
-import tv06_common as tv  # noqa: E402
+from granboltz.files import write_csv, write_json  # noqa: E402
+from granboltz.plotting import figure_summary, pyplot, save_figure  # noqa: E402
+from granboltz.theory import LAMBDA_P  # noqa: E402
+from granboltz.tv06_tables import NEEDLE_COLUMNS, needle_rows, read_tv06  # noqa: E402
 
-plt = gc.pyplot()
-runs = [tv.read_tv06(path) for path in snakemake.input.runs]
+plt = pyplot()
+runs = [read_tv06(path) for path in snakemake.input.runs]
 if any(r["model"] != "needle" for r in runs):
     raise ValueError("Fig. 7 needs needle runs")
-rows = tv.needle_rows(runs)
-gc.write_csv(rows, tv.NEEDLE_COLUMNS, snakemake.output.csv, digits=6)
+rows = needle_rows(runs)
+write_csv(rows, NEEDLE_COLUMNS, snakemake.output.csv, digits=6)
 
 fig, ax = plt.subplots(figsize=(4.4, 3.3))
 masses = sorted({r["M"] for r in rows})
@@ -34,10 +36,10 @@ ax.set_xlabel(r"$\alpha$")
 ax.set_ylabel(r"$R = \langle v^2\omega^2\rangle / \langle v^2\rangle\langle\omega^2\rangle$")
 ax.legend(loc="upper right")
 fig.tight_layout()
-gc.save_figure(fig, [snakemake.output.png, snakemake.output.pdf])
+save_figure(fig, [snakemake.output.png, snakemake.output.pdf])
 
 elastic = [r for r in rows if r["R_exact"] is not None]
-ok_R = sum(abs(r["R_z"]) <= tv.LAMBDA_P for r in elastic)
+ok_R = sum(abs(r["R_z"]) <= LAMBDA_P for r in elastic)
 inelastic = [r for r in rows if r["alpha"] < 1]
 ordered = sum(r["ordering"] == "T_B > T_trans > T_rot" for r in inelastic)
 equi = sum(r["ordering"] == "equipartition" for r in elastic)
@@ -56,6 +58,6 @@ verdict = "agrees" if ok_R == len(elastic) and ordered == len(inelastic) and equ
 short = (f"{verdict}: R = 1 within CI at α = 1 ({ok_R}/{len(elastic)}); T_B > T_trans > T_rot at "
          f"{ordered}/{len(inelastic)} points with α < 1")
 print(ours, file=sys.stderr)
-gc.write_json(gc.figure_summary(ours, short, R_elastic_ok=ok_R, ordered=ordered, inelastic=len(inelastic),
+write_json(figure_summary(ours, short, R_elastic_ok=ok_R, ordered=ordered, inelastic=len(inelastic),
                                 equipartition=equi, R_low_alpha={f"{M:g}": r["R"] for M, r in at_low.items()}),
               snakemake.output.summary)

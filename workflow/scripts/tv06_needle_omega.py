@@ -17,20 +17,23 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 import numpy as np  # noqa: E402
 from scipy import stats  # noqa: E402
 
-import granboltz_common as gc  # noqa: E402
-import tv06_common as tv  # noqa: E402
+from granboltz.files import write_csv, write_json  # noqa: E402
+from granboltz.plotting import figure_summary, pyplot, save_figure  # noqa: E402
+from granboltz.theory import LAMBDA_P, t_coverage  # noqa: E402
+from granboltz.tv06_histograms import gaussian_fits  # noqa: E402
+from granboltz.tv06_tables import read_tv06  # noqa: E402
 
-plt = gc.pyplot()
-(run,) = [tv.read_tv06(path) for path in snakemake.input.runs]
+plt = pyplot()
+(run,) = [read_tv06(path) for path in snakemake.input.runs]
 h = run["omega"]
 if run["model"] != "needle" or h is None:
     raise ValueError(f"{run['path']}: Fig. 8 needs a needle run with an omega histogram")
-g = tv.gaussian_fits(h)
+g = gaussian_fits(h)
 w, d, ci = g["centres"], h["density"], h["ci"]
-z = (d - g["fit"]) / np.where(ci > 0, ci / tv.LAMBDA_P, np.inf)
+z = (d - g["fit"]) / np.where(ci > 0, ci / LAMBDA_P, np.inf)
 rows = [{"omega": x, "density": y, "ci": c, "gaussian_fit": f, "gaussian_moments": m, "z_fit": zz}
         for x, y, c, f, m, zz in zip(w, d, ci, g["fit"], g["moments"], z)]
-gc.write_csv(rows, list(rows[0]), snakemake.output.csv, digits=6)
+write_csv(rows, list(rows[0]), snakemake.output.csv, digits=6)
 
 fig, axes = plt.subplots(1, 2, figsize=(6.4, 2.8))
 for ax in axes:
@@ -45,12 +48,12 @@ axes[1].set_yscale("log")
 axes[1].set_ylim(max(d[d > 0].min(), 1e-6) / 2, d.max() * 2)
 axes[1].legend(loc="lower center", fontsize=6)
 fig.tight_layout()
-gc.save_figure(fig, [snakemake.output.png, snakemake.output.pdf])
+save_figure(fig, [snakemake.output.png, snakemake.output.pdf])
 
 sel = ci > 0
-out = int(np.sum(np.abs(z[sel]) > tv.LAMBDA_P))
+out = int(np.sum(np.abs(z[sel]) > LAMBDA_P))
 c = run["config"]
-p_bin = 1 - tv.t_coverage(run["N"])  # chance that a bin's interval misses an exact curve
+p_bin = 1 - t_coverage(run["N"])  # chance that a bin's interval misses an exact curve
 expected, p_value = p_bin * sel.sum(), float(stats.binom.sf(out - 1, int(sel.sum()), p_bin))
 resolved = "resolved" if p_value < 1e-3 else "not resolved"
 ours = (f"M = {run['M']:g}, α = {run['alpha']:g}, N = {run['N']} × {run['collisions']} = "
@@ -64,6 +67,6 @@ ours = (f"M = {run['M']:g}, α = {run['alpha']:g}, N = {run['N']} × {run['colli
 short = (f"deviations from the best-fit Gaussian {resolved}: outside the CI at {out}/{int(sel.sum())} bins; "
          f"excess kurtosis {g['excess_kurtosis']:+.3f}")
 print(ours, file=sys.stderr)
-gc.write_json(gc.figure_summary(ours, short, s_fit=g["s_fit"], s_moments=g["s_moments"],
+write_json(figure_summary(ours, short, s_fit=g["s_fit"], s_moments=g["s_moments"],
                                 excess_kurtosis=g["excess_kurtosis"], bins_outside=out, bins=int(sel.sum())),
               snakemake.output.summary)

@@ -2,8 +2,8 @@
 power-law bath, eq. (19), one per alpha. Left: the density of v1 (bins of params.bin_width) with
 the exact solution at alpha = M dashed: the intruder takes the colliding velocity (eq. 17), so its
 distribution is the bath's f(v, a) itself (T = M <v1^2> = alpha T_B); it is checked bin by bin
-(tv06_common.histogram_check, |v1| <= check_range). Right (the paper's inset): log-log density of
-|v1| with a v^-4 guide; least-squares exponents on tail_window (theory -4) in the summary.
+(granboltz.tv06_histograms.histogram_check, |v1| <= check_range). Right (the paper's inset):
+log-log density of |v1| with a v^-4 guide; least-squares exponents on tail_window (theory -4).
 """
 
 import sys
@@ -12,16 +12,19 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
 import numpy as np  # noqa: E402
 
-import granboltz_common as gc  # noqa: E402
-import tv06_common as tv  # noqa: E402
+from granboltz.files import write_csv, write_json  # noqa: E402
+from granboltz.plotting import figure_summary, pyplot, save_figure  # noqa: E402
+from granboltz.theory import exact_temperature_ratio, powerlaw_pdf, t_coverage  # noqa: E402
+from granboltz.tv06_histograms import folded_tail, histogram_check, rebin, tail_exponent  # noqa: E402
+from granboltz.tv06_tables import read_tv06  # noqa: E402
 
-plt = gc.pyplot()
+plt = pyplot()
 p = snakemake.params
-runs = sorted((tv.read_tv06(path) for path in snakemake.input.runs), key=lambda r: r["alpha"])
+runs = sorted((read_tv06(path) for path in snakemake.input.runs), key=lambda r: r["alpha"])
 if any(r["model"] != "intruder" or r["bath"] != "powerlaw" or r["M"] != p.mass or r["histogram"] is None for r in runs):
     raise ValueError(f"Fig. 5 needs power-law intruder runs with histograms at M = {p.mass}")
 a = runs[0]["a"]
-exact = lambda v: tv.powerlaw_pdf(v, a)  # noqa: E731
+exact = lambda v: powerlaw_pdf(v, a)  # noqa: E731
 
 fig, (left, right) = plt.subplots(1, 2, figsize=(6.6, 3.0))
 cmap = plt.matplotlib.colors.ListedColormap(plt.cm.viridis(np.linspace(0.0, 0.9, 256)))  # alpha -> colour
@@ -29,22 +32,22 @@ colours = cmap([r["alpha"] for r in runs])
 rows, fits, check, peaks = [], {}, None, []
 for run, colour in zip(runs, colours):
     h, al = run["histogram"], run["alpha"]
-    known = tv.exact_temperature_ratio("powerlaw", al, p.mass) is not None
-    v, d, ci = tv.rebin(h, int(round(p.bin_width / (h["edges"][1] - h["edges"][0]))))
+    known = exact_temperature_ratio("powerlaw", al, p.mass) is not None
+    v, d, ci = rebin(h, int(round(p.bin_width / (h["edges"][1] - h["edges"][0]))))
     shown = np.abs(v) <= p.v_max
     left.plot(v[shown], d[shown], color=colour, lw=0.8)
     peaks.append(float(d[shown].max()))
-    vt, dt, ct = tv.folded_tail(h, p.tail_from)
+    vt, dt, ct = folded_tail(h, p.tail_from)
     many = ct >= 10  # drawn: log bins with at least 10 samples
     right.loglog(vt[many], dt[many], ".-", color=colour, lw=0.6, ms=2)
-    fits[f"{al:g}"] = tv.tail_exponent(vt, dt, ct, p.tail_window)
+    fits[f"{al:g}"] = tail_exponent(vt, dt, ct, p.tail_window)
     rows += [{"alpha": al, "panel": panel, "v": x, "density": y, "ci": c, "samples": n,
               "exact": float(exact(x)) if known else None}
              for panel, xs, ys, cs, ns in (("linear", v[shown], d[shown], ci[shown], [None] * shown.sum()),
                                            ("tail", vt, dt, [None] * vt.size, ct.astype(int)))
              for x, y, c, n in zip(xs, ys, cs, ns)]
     if known:
-        check = dict(alpha=al, **tv.histogram_check(h, exact, p.check_range, run["N"]))
+        check = dict(alpha=al, **histogram_check(h, exact, p.check_range, run["N"]))
         vs = np.linspace(-p.v_max, p.v_max, 400)
         left.plot(vs, exact(vs), color="red", dashes=(3, 2), lw=1.0, zorder=5, label=f"exact at $\\alpha = M = {al:g}$")
         vs = np.geomspace(p.tail_from, vt[many].max(), 200)
@@ -58,8 +61,8 @@ right.legend(loc="lower left")
 fig.tight_layout()
 fig.colorbar(plt.cm.ScalarMappable(cmap=cmap, norm=plt.Normalize(0, 1)), ax=[left, right], fraction=0.03, pad=0.02,
              label=r"$\alpha$")
-gc.save_figure(fig, [snakemake.output.png, snakemake.output.pdf])
-gc.write_csv(rows, ["alpha", "panel", "v", "density", "ci", "samples", "exact"], snakemake.output.csv, digits=6)
+save_figure(fig, [snakemake.output.png, snakemake.output.pdf])
+write_csv(rows, ["alpha", "panel", "v", "density", "ci", "samples", "exact"], snakemake.output.csv, digits=6)
 
 b = np.array([f["exponent"] for f in fits.values()])
 window = f"[{p.tail_window[0]:g}, {p.tail_window[1]:g}]"
@@ -70,10 +73,10 @@ ours = (f"tail exponents on |v1| ∈ {window}: {b.min():.2f} to {b.max():.2f} (m
            "does not fall monotonically with α: " + ", ".join(f"{x:.3f}" for x in peaks)))
 if check:
     ours += (f". Exact solution at α = M = {check['alpha']:g} (the bath's own f, T = αT_B): {check['within']}/"
-             f"{check['bins']} bins within their 99.9 % CI (expected fraction {tv.t_coverage(runs[0]['N']):.3f} "
+             f"{check['bins']} bins within their 99.9 % CI (expected fraction {t_coverage(runs[0]['N']):.3f} "
              f"with N = {runs[0]['N']}), largest |z| {check['max_z']:.1f}")
 short = f"tail exponents {b.min():.2f} … {b.max():.2f} (theory −4)" + (
     f"; α = M: {check['within']}/{check['bins']} bins within CI of the exact f" if check else "")
 print(ours, file=sys.stderr)
-gc.write_json(gc.figure_summary(ours + f". Numbers: `{snakemake.output.csv}`", short, exponents=fits, check=check),
+write_json(figure_summary(ours + f". Numbers: `{snakemake.output.csv}`", short, exponents=fits, check=check),
               snakemake.output.summary)

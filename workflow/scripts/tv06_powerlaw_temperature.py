@@ -6,7 +6,7 @@ errors). CAVEAT: v1^2 has infinite variance in this bath (v^-4 tails), so that i
 what does not hold and undercovers (docs/tv06.md: 4.7 % of repeated runs beyond 3.2 standard
 errors instead of 0.14 %, all low); grey dots show the N per-ensemble values, whose skewed
 spread is the honest picture. Stars: the exact T/T_B = alpha at M = alpha (any bath). The table
-is tv06_common.temperature_rows; the summary compares each M with its Gaussian curve.
+is granboltz.tv06_tables.temperature_rows; the summary compares each M with its Gaussian curve.
 """
 
 import sys
@@ -15,15 +15,17 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
 import numpy as np  # noqa: E402
 
-import granboltz_common as gc  # noqa: E402
-import tv06_common as tv  # noqa: E402
+from granboltz.files import write_csv, write_json  # noqa: E402
+from granboltz.plotting import figure_summary, pyplot, save_figure  # noqa: E402
+from granboltz.theory import gaussian_temperature_ratio  # noqa: E402
+from granboltz.tv06_tables import read_tv06, TEMPERATURE_COLUMNS, temperature_rows  # noqa: E402
 
-plt = gc.pyplot()
-runs = [tv.read_tv06(path) for path in snakemake.input.runs]
+plt = pyplot()
+runs = [read_tv06(path) for path in snakemake.input.runs]
 if any(r["model"] != "intruder" or r["bath"] != "powerlaw" for r in runs):
     raise ValueError("Fig. 4 needs intruder runs in the power-law bath")
-rows = tv.temperature_rows(runs)
-gc.write_csv(rows, tv.TEMPERATURE_COLUMNS, snakemake.output.csv, digits=6)
+rows = temperature_rows(runs)
+write_csv(rows, TEMPERATURE_COLUMNS, snakemake.output.csv, digits=6)
 
 fig, ax = plt.subplots(figsize=(4.4, 3.4))
 alpha = np.linspace(0.0, 1.0, 201)
@@ -32,7 +34,7 @@ for k, M in enumerate(sorted({r["M"] for r in rows}, reverse=True)):
     mine = [r for r in rows if r["M"] == M]
     a = np.array([r["alpha"] for r in mine])
     T = np.array([r["T_ratio"] for r in mine])
-    ax.plot(alpha, tv.gaussian_temperature_ratio(alpha, M), color="black", dashes=(4, 2.5), lw=0.8,
+    ax.plot(alpha, gaussian_temperature_ratio(alpha, M), color="black", dashes=(4, 2.5), lw=0.8,
             label="Gaussian bath, eq. (18)" if k == 0 else None)
     for run in (r for r in runs if r["M"] == M):
         ax.plot(np.full(run["N"], run["alpha"] + 0.022), run["T"]["per_ensemble"], ".", ms=1.5,
@@ -40,7 +42,7 @@ for k, M in enumerate(sorted({r["M"] for r in rows}, reverse=True)):
         labelled.add("dots")
     ax.errorbar(a, T, yerr=[r["ci"] for r in mine], fmt="os"[k % 2], ms=4, mfc="white", mec="black", ecolor="black",
                 elinewidth=0.8, capsize=2, label=f"$M = {M:g}$ (nominal 99.9 % CI)")
-    gauss = tv.gaussian_temperature_ratio(a, M)
+    gauss = gaussian_temperature_ratio(a, M)
     above, below = np.abs(T / gauss - 1)[a > M], np.abs(T / gauss - 1)[a < M]
     dev = (f"within {100 * above.max():.1f} % of the Gaussian curve for α > M" if above.size else "no α > M") + \
         (f", up to {100 * below.max():.0f} % above it for α < M" if below.size else "")
@@ -59,7 +61,7 @@ ax.set_xlabel(r"$\alpha$")
 ax.set_ylabel(r"$T/T_B$")
 ax.legend(loc="upper left", fontsize=7)
 fig.tight_layout()
-gc.save_figure(fig, [snakemake.output.png, snakemake.output.pdf])
+save_figure(fig, [snakemake.output.png, snakemake.output.pdf])
 
 ours = ("; ".join(texts) + f" (N = {rows[0]['N']} × {rows[0]['collisions']} collisions per point). The nominal "
         "intervals assume a finite variance of v1², which the v⁻⁴ tails do not have: they undercover (mostly with "
@@ -67,4 +69,4 @@ ours = ("; ".join(texts) + f" (N = {rows[0]['N']} × {rows[0]['collisions']} col
         f"bin with valid intervals. Numbers: `{snakemake.output.csv}`")
 short = "; ".join(shorts) + " (σ from nominal CIs, indicative: infinite variance)"
 print(ours, file=sys.stderr)
-gc.write_json(gc.figure_summary(ours, short, rows=len(rows)), snakemake.output.summary)
+write_json(figure_summary(ours, short, rows=len(rows)), snakemake.output.summary)

@@ -2,7 +2,7 @@
 exact curve of Martin and Piasecki, eq. (18), T/T_B = (1 + alpha)/(2 + (1 - alpha)/M).
 
 Symbols: the mean over the N ensembles with its 99.9 % confidence interval (the simulator's
-ci = 3.2 sqrt(var/N)); solid curve: eq. (18). The table (tv06_common.temperature_rows) has every
+ci = 3.2 sqrt(var/N)); solid curve: eq. (18). The table (granboltz.tv06_tables.temperature_rows) has every
 point with the exact value, z = (mean - exact)/(ci/3.2) and whether the exact value is within
 the ci; the summary counts those.
 """
@@ -13,21 +13,23 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
 import numpy as np  # noqa: E402
 
-import granboltz_common as gc  # noqa: E402
-import tv06_common as tv  # noqa: E402
+from granboltz.files import write_csv, write_json  # noqa: E402
+from granboltz.plotting import figure_summary, pyplot, save_figure  # noqa: E402
+from granboltz.theory import gaussian_temperature_ratio, t_coverage  # noqa: E402
+from granboltz.tv06_tables import read_tv06, TEMPERATURE_COLUMNS, temperature_rows  # noqa: E402
 
-plt = gc.pyplot()
-runs = [tv.read_tv06(path) for path in snakemake.input.runs]
+plt = pyplot()
+runs = [read_tv06(path) for path in snakemake.input.runs]
 if any(r["model"] != "intruder" or r["bath"] != "gaussian" for r in runs):
     raise ValueError("Fig. 3 needs intruder runs in the Gaussian bath")
-rows = tv.temperature_rows(runs)
-gc.write_csv(rows, tv.TEMPERATURE_COLUMNS, snakemake.output.csv, digits=6)
+rows = temperature_rows(runs)
+write_csv(rows, TEMPERATURE_COLUMNS, snakemake.output.csv, digits=6)
 
 fig, ax = plt.subplots(figsize=(4.2, 3.2))
 alpha = np.linspace(0.0, 1.0, 201)
 for k, M in enumerate(sorted({r["M"] for r in rows}, reverse=True)):
     mine = [r for r in rows if r["M"] == M]
-    ax.plot(alpha, tv.gaussian_temperature_ratio(alpha, M), color="black", lw=0.9,
+    ax.plot(alpha, gaussian_temperature_ratio(alpha, M), color="black", lw=0.9,
             label="eq. (18)" if k == 0 else None)
     ax.errorbar([r["alpha"] for r in mine], [r["T_ratio"] for r in mine], yerr=[r["ci"] for r in mine],
                 fmt="os^v"[k % 4], ms=4, mfc="white", mec="black", ecolor="black", elinewidth=0.8, capsize=2,
@@ -37,12 +39,12 @@ ax.set_xlabel(r"$\alpha$")
 ax.set_ylabel(r"$T/T_B$")
 ax.legend(loc="upper left")
 fig.tight_layout()
-gc.save_figure(fig, [snakemake.output.png, snakemake.output.pdf])
+save_figure(fig, [snakemake.output.png, snakemake.output.pdf])
 
 N, n_col = rows[0]["N"], rows[0]["collisions"]
 inside = sum(r["within_ci"] == "yes" for r in rows)
 worst = max(rows, key=lambda r: abs(r["z"]))
-cover = tv.t_coverage(N)
+cover = t_coverage(N)
 ours = (f"{inside}/{len(rows)} points within their 99.9 % confidence interval of eq. (18) (N = {N} ensembles × "
         f"{n_col} collisions per point; largest deviation {worst['deviation']:+.5f} = {worst['z']:+.1f}σ at "
         f"α = {worst['alpha']:g}). With N = {N} estimated variances each interval covers with probability "
@@ -51,5 +53,5 @@ ours = (f"{inside}/{len(rows)} points within their 99.9 % confidence interval of
 verdict = "agrees" if inside == len(rows) else f"{len(rows) - inside} point(s) outside"
 short = f"{verdict}: {inside}/{len(rows)} points within the CI of eq. (18) (max {abs(worst['z']):.1f}σ)"
 print(ours, file=sys.stderr)
-gc.write_json(gc.figure_summary(ours, short, inside=inside, points=len(rows), max_abs_z=abs(worst["z"]),
+write_json(figure_summary(ours, short, inside=inside, points=len(rows), max_abs_z=abs(worst["z"]),
                                 coverage_per_point=cover), snakemake.output.summary)

@@ -1,4 +1,4 @@
-"""The helper module of the workflow scripts: analytic formulas, GRW05 Table 1 numbers, files."""
+"""The package's basics: analytic formulas, GRW05 Table 1 numbers, atomic files."""
 
 import math
 import os
@@ -6,13 +6,16 @@ import os
 import numpy as np
 import pytest
 
-import granboltz_common as gc
+from granboltz.dsmc import read_dsmc
+from granboltz.files import atomic_path, write_csv
+from granboltz.tables import convergence_rows
+from granboltz.theory import analytic_temperature
 from conftest import eq34
 
 
 def test_analytic_temperature_is_eq34_for_example3():
     t = np.linspace(0.0, 8.0, 33)
-    T = gc.analytic_temperature(t, 1.0, 0.5, 1.0, 4.0, 1 / (4 * math.pi))
+    T = analytic_temperature(t, 1.0, 0.5, 1.0, 4.0, 1 / (4 * math.pi))
     np.testing.assert_allclose(T, eq34(t), rtol=1e-14)
 
 
@@ -21,14 +24,14 @@ def test_analytic_temperature_solves_the_moment_equation():
     alpha, beta, gamma, C0, T0 = 0.3, 0.125, 2.0, 0.2, 1.7
     k = gamma * math.pi * C0 * (1 - alpha**2)
     t, h = np.linspace(0.1, 3.0, 30), 1e-6
-    T = lambda s: gc.analytic_temperature(s, T0, alpha, beta, gamma, C0)  # noqa: E731
+    T = lambda s: analytic_temperature(s, T0, alpha, beta, gamma, C0)  # noqa: E731
     np.testing.assert_allclose((T(t + h) - T(t - h)) / (2 * h), -k * T(t) + 2 * beta, rtol=1e-7)
     assert T(0.0) == pytest.approx(T0)
     assert T(1e4) == pytest.approx(2 * beta / k)
 
 
 def test_analytic_temperature_elastic_limit_grows_linearly():
-    assert gc.analytic_temperature(2.0, 1.0, 1.0, 0.5, 4.0, 0.1) == pytest.approx(3.0)
+    assert analytic_temperature(2.0, 1.0, 1.0, 0.5, 4.0, 0.1) == pytest.approx(3.0)
 
 
 def test_convergence_rows_give_known_errors_factors_and_bulk_velocity(fake_run):
@@ -36,11 +39,11 @@ def test_convergence_rows_give_known_errors_factors_and_bulk_velocity(fake_run):
     V[5] = [0.003, 0.004, 0.0]  # |V| = 0.005 at t = 1.25
     V[9] = [0.0, -0.001, 0.0]
     runs = [
-        gc.read_run(fake_run(256, eps=0.02, eps_centred=-0.004, peak=12)),
-        gc.read_run(fake_run(64, eps=0.08, eps_centred=0.016, peak=7, V=V, N=50)),
-        gc.read_run(fake_run(1024, eps=-0.004, eps_centred=0.002, peak=32)),
+        read_dsmc(fake_run(256, eps=0.02, eps_centred=-0.004, peak=12)),
+        read_dsmc(fake_run(64, eps=0.08, eps_centred=0.016, peak=7, V=V, N=50)),
+        read_dsmc(fake_run(1024, eps=-0.004, eps_centred=0.002, peak=32)),
     ]
-    rows = gc.convergence_rows(runs)
+    rows = convergence_rows(runs)
     assert [r["n"] for r in rows] == [64, 256, 1024]
     assert [r["N"] for r in rows] == [50, 100, 100]
     np.testing.assert_allclose([r["E_max"] for r in rows], [0.08, 0.02, 0.004], rtol=1e-12)
@@ -57,28 +60,28 @@ def test_convergence_rows_give_known_errors_factors_and_bulk_velocity(fake_run):
 
 def test_convergence_rows_refuse_non_maxwell_kernels_and_repeated_n(fake_run):
     with pytest.raises(ValueError, match="lambda"):
-        gc.convergence_rows([gc.read_run(fake_run(64, kernel_lambda=1))])
-    run = gc.read_run(fake_run(64))
+        convergence_rows([read_dsmc(fake_run(64, kernel_lambda=1))])
+    run = read_dsmc(fake_run(64))
     with pytest.raises(ValueError, match="same n"):
-        gc.convergence_rows([run, run])
+        convergence_rows([run, run])
 
 
 def test_read_run_refuses_non_finite_data(fake_run):
     V = np.zeros((33, 3))
     V[3, 0] = np.nan
     with pytest.raises(ValueError, match="bulk_velocity/mean"):
-        gc.read_run(fake_run(64, V=V))
+        read_dsmc(fake_run(64, V=V))
 
 
 def test_atomic_path_leaves_nothing_behind_on_failure(tmp_path):
     target = tmp_path / "out.csv"
     with pytest.raises(RuntimeError):
-        with gc.atomic_path(str(target)) as tmp:
+        with atomic_path(str(target)) as tmp:
             with open(tmp, "w") as out:
                 out.write("half")
             raise RuntimeError("step failed")
     assert os.listdir(tmp_path) == []
-    with gc.atomic_path(str(target)) as tmp:
+    with atomic_path(str(target)) as tmp:
         with open(tmp, "w") as out:
             out.write("whole")
     assert target.read_text() == "whole" and os.listdir(tmp_path) == ["out.csv"]
@@ -86,5 +89,5 @@ def test_atomic_path_leaves_nothing_behind_on_failure(tmp_path):
 
 def test_write_csv_formats_cells(tmp_path):
     path = tmp_path / "t.csv"
-    gc.write_csv([{"n": 64, "E": 0.0123456, "CF": None}], ["n", "E", "CF"], str(path))
+    write_csv([{"n": 64, "E": 0.0123456, "CF": None}], ["n", "E", "CF"], str(path))
     assert path.read_text() == "n,E,CF\n64,0.01235,\n"

@@ -1,0 +1,34 @@
+"""granboltz: read, analyse and plot the outputs of the granboltz simulator.
+
+    import granboltz
+    run = granboltz.read_run("out.h5")        # granboltz.run.read_run
+    run.time, run.temperature.mean, run.temperature.ci
+
+Modules, one concern each (import the one you need; nothing heavy is imported here):
+    run          read_run: any output file as one object (observables with ci, lazy histograms)
+    io           low-level HDF5 reading; RunReadError names the file and the dataset
+    dsmc         the DSMC runs of the GRW05/RW05 tables (temperature series, histogram, steady)
+    theory       temperature laws, scheme values, the estimator's bias, TV06 §3.1 formulas
+    tables       GRW05 Tables 1-2, RW05 Tables 1-2
+    steady       RW05 Tables 3-6, repeated runs, the effort model
+    tails        GRW05 §5.3 tail exponents
+    tv06_tables, tv06_histograms   TV06 runs, tables and histograms
+    plotting     matplotlib with the house style, reproducible figure files
+    files        atomic CSV/text/JSON writing
+    report       the reproduction report (subpackage)
+"""
+
+__version__ = "0.1.0"
+
+
+def __getattr__(name):
+    # read_run and RunReadError on the package itself, imported on first use (h5py, yaml).
+    if name == "read_run":
+        from .run import read_run
+
+        return read_run
+    if name == "RunReadError":
+        from .io import RunReadError
+
+        return RunReadError
+    raise AttributeError(f"module 'granboltz' has no attribute {name!r}")

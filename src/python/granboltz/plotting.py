@@ -1,0 +1,59 @@
+"""Plotting helpers with the house style (a printed paper's look): pyplot on the Agg backend,
+reproducible figure files, and the JSON summary each figure rule writes beside its figure.
+
+matplotlib is imported only when pyplot() is called.
+"""
+
+import os
+
+from .files import atomic_path
+
+
+def pyplot():
+    """matplotlib.pyplot on the Agg backend with the house style (a printed paper's look)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    plt.rcParams.update(
+        {
+            "font.family": "serif",
+            "font.serif": ["DejaVu Serif"],
+            "mathtext.fontset": "dejavuserif",
+            "font.size": 9,
+            "axes.labelsize": 9,
+            "axes.titlesize": 9,
+            "axes.linewidth": 0.6,
+            "legend.fontsize": 8,
+            "legend.frameon": False,
+            "lines.linewidth": 0.8,
+            "xtick.direction": "in",
+            "ytick.direction": "in",
+            "xtick.top": True,
+            "ytick.right": True,
+            "xtick.major.width": 0.6,
+            "ytick.major.width": 0.6,
+            "savefig.dpi": 200,
+            "savefig.bbox": "tight",
+            "savefig.pad_inches": 0.02,
+        }
+    )
+    return plt
+
+
+def save_figure(fig, paths):
+    """Save `fig` to each path (format from the extension), each atomically; PDFs carry no
+    creation date, so a rerun gives the same bytes."""
+    for path in paths:
+        fmt = os.path.splitext(path)[1][1:]
+        metadata = {"CreationDate": None} if fmt == "pdf" else None
+        with atomic_path(path) as tmp:
+            fig.savefig(tmp, format=fmt, metadata=metadata)
+
+
+def figure_summary(ours, short, **numbers):
+    """The JSON summary a figure rule writes next to its figure: the one-line description of
+    what our figure shows (`ours`, computed from the numbers), a shorter one for the report's
+    summary table (`short`) and the numbers themselves."""
+    return {"ours": ours, "short": short, "numbers": numbers}

@@ -1,0 +1,134 @@
+"""Numbers and verdicts of the report: formatting, σ-distances between ours and the published
+values (with the rounding of a printed number as an uncertainty), verdict texts, fitted orders
+and the known typos of the published tables.
+"""
+
+import math
+import re
+
+from ..tables import fit_order
+
+LAMBDA_P = 3.2  # confidence half-widths of GRW05 §5.1 / the simulator (p = 0.999)
+# N of the published tables (from the papers' text: GRW05 §5.2, RW05 §4.1) and their typos
+PUBLISHED_N = {"grw05_table1": 10000, "grw05_table2": 10000, "rw05_table1": 10000, "rw05_table2": 10000}
+TYPOS = {("rw05_table3_euler", "K", "4094"): "4096"}
+DASH = "–"
+
+
+# ----------------------------------------------------------------------------- numbers
+def fl(value):
+    """A CSV cell as float (None for empty or missing)."""
+    if value is None or value == "":
+        return None
+    return float(value)
+
+
+def num(x, sig=3):
+    """A number for the report: `sig` significant digits, e-notation below 1e-3; '–' for None."""
+    if x is None or (isinstance(x, float) and math.isnan(x)):
+        return DASH
+    x = float(x)
+    if x == int(x) and abs(x) >= 1 and abs(x) < 1e7:
+        return str(int(x))
+    if x != 0 and (abs(x) < 1e-3 or abs(x) >= 1e6):
+        mant, exp = f"{x:.{sig - 1}e}".split("e")
+        return f"{mant}e{int(exp)}"
+    return f"{x:.{sig}g}"
+
+
+def pm(x, ci, sig=3):
+    """'x ± ci': a value with its confidence half-width (two significant digits)."""
+    return f"{num(x, sig)} ± {num(ci, 2)}"
+
+
+def z_score(ours, published, ci_ours, ci_published):
+    """|ours - published| in standard deviations; the half-widths are lambda_p sigma."""
+    sigma = math.hypot(ci_ours, ci_published) / LAMBDA_P
+    return abs(ours - published) / sigma if sigma > 0 else float("inf")
+
+
+def rounding_ci(text):
+    """The rounding of a printed number as a confidence half-width: lambda_p times the standard
+    deviation unit/sqrt(12) of a uniform error over one unit of the last printed digit."""
+    m = re.fullmatch(r"\s*[-+]?\d*\.?(\d*)(?:[eE]([-+]?\d+))?\s*", str(text))
+    if not m:
+        return 0.0
+    unit = 10.0 ** (int(m.group(2) or 0) - len(m.group(1)))
+    return LAMBDA_P * unit / math.sqrt(12.0)
+
+
+def pci(row, key, ci_stat):
+    """Uncertainty (as a half-width) of a published value: its statistical half-width ci_stat
+    combined with its rounding."""
+    return math.hypot(ci_stat, rounding_ci(row.get(key, "")))
+
+
+def signed_z(a, b, ci):
+    """(a - b) in standard deviations, for the confidence half-width ci of a - b: '+3.3σ'."""
+    if a is None or b is None or not ci:
+        return DASH
+    return f"{(a - b) / (ci / LAMBDA_P):+.1f}σ"
+
+
+def paper_outliers(pairs):
+    """'; the published value is +3.3σ from the exact expectation at n = 64' for |z| > lambda_p."""
+    far = [(k, z) for k, z in pairs if abs(z) > LAMBDA_P]
+    return "".join(f"; published {k} is {z:+.1f}σ from the exact expectation" for k, z in far)
+
+
+def verdict(z):
+    """'agrees' within the statistics (|diff| below the combined 99.9 % half-width), else 'differs'."""
+    return f"agrees ({z:.1f}σ)" if z <= LAMBDA_P else f"**differs** ({z:.1f}σ)"
+
+
+def order_fit(x, y):
+    """Order p of y = C x^-p with its standard error (granboltz.tables.fit_order: scipy
+    least squares on logs); nan with fewer than two points."""
+    return fit_order(x, y)
+
+
+def order_text(p, se):
+    """A fitted order 'p ± se' ('p' alone without a standard error, '–' for nan)."""
+    return DASH if math.isnan(p) else (f"{p:.2f}" if math.isnan(se) else f"{p:.2f} ± {se:.2f}")
+
+
+def fix_typos(name, rows):
+    """Published rows with the known typos corrected (RW05 Table 3: K = 4094 is 4096)."""
+    out = []
+    for row in rows:
+        row = dict(row)
+        for (table, col, wrong), right in TYPOS.items():
+            if table == name and row.get(col) == wrong:
+                row[col] = right
+        out.append(row)
+    return out
+
+
+
+# ----------------------------------------------------------------------------- verdicts at a glance
+# The mark shown before each short verdict of the summary (Markdown and HTML), and its meaning.
+VERDICT_MARKS = {"agrees": "✓", "differs": "✗", "questioned": "⚠", "none": "·"}
+VERDICT_MEANING = {"agrees": "agrees with the published numbers or the exact result",
+                   "differs": "differs",
+                   "questioned": "ours agrees, a published number is questioned",
+                   "none": "nothing to compare with"}
+
+
+def verdict_kind(short):
+    """The kind of a short verdict text: 'differs' (a row or point differs, or is to be checked),
+    'questioned' (ours agree, but a published number lies far from the exact expectation or
+    differs by a constant factor), 'agrees', or 'none' (no comparison made)."""
+    text = short.replace("**", "").strip().lower()
+    if (text.startswith(("differs", "an error differs", "repeats differ", "check"))
+            or "point(s) outside" in text or "point(s) differ" in text):
+        return "differs"
+    if ("published" in text and "from the exact expectation" in text) or "conf_end differs" in text:
+        return "questioned"
+    if text.startswith(("agrees", "errors agree", "repeats agree")):
+        return "agrees"
+    return "none"
+
+
+def marked(short):
+    """A short verdict with its mark in front: '✓ agrees within the statistics (max 1.2σ)'."""
+    return f"{VERDICT_MARKS[verdict_kind(short)]} {short}"
