@@ -59,16 +59,15 @@ STATUS=1
 cleanup() {
   local rc=$?
   set +e
-  if [ -n "$SNAKEMAKE_PID" ] && kill -0 "$SNAKEMAKE_PID" 2>/dev/null; then
-    kill -TERM "$SNAKEMAKE_PID"  # Snakemake cancels its jobs (cluster-cancel)
-    wait "$SNAKEMAKE_PID" 2>/dev/null
-  fi
+  # Snakemake first (it submits nothing more once signalled), then the jobs it left.
+  [ -n "$SNAKEMAKE_PID" ] && kill -TERM "$SNAKEMAKE_PID" 2>/dev/null
   if [ -n "${SLURM_CONF:-}" ] && [ ${#DAEMONS[@]} -ge 2 ]; then
     local jobs
     jobs=$(squeue -h -o %i 2>/dev/null)
     [ -n "$jobs" ] && scancel $jobs
     for _ in $(seq 60); do [ -z "$(squeue -h -o %i 2>/dev/null)" ] && break; sleep 0.5; done
   fi
+  [ -n "$SNAKEMAKE_PID" ] && wait "$SNAKEMAKE_PID" 2>/dev/null
   for ((k = ${#DAEMONS[@]} - 1; k >= 0; k--)); do kill -TERM "${DAEMONS[k]}" 2>/dev/null; done
   for pid in "${DAEMONS[@]}"; do
     for _ in $(seq 100); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
@@ -185,15 +184,19 @@ shard=${tmp%.tmp.*}
 sleep 2
 say "preempting job $job (${shard#"$WORK/slurm/"}): scancel --batch --signal=TERM $job"
 scancel --batch --signal=TERM "$job"
-for _ in $(seq 240); do
-  [ -n "$(squeue -h -j "$job" -t R,CG -o %i 2>/dev/null)" ] || break
+for _ in $(seq 240); do  # the resubmitted job removes the checkpoint only when it completes
+  [ -f "$shard.checkpoint" ] && break
   sleep 0.25
 done
-job_state=$(scontrol show job -o "$job" | grep -o 'JobState=[A-Z_]* .*ExitCode=[0-9:]*' |
-  sed 's/ .*ExitCode=/, exit code /')
-say "job $job ended: $job_state; cluster-status says: $("$ROOT/workflow/profiles/slurm/cluster-status.sh" "$job")"
-[ -f "$shard.checkpoint" ] || fail "no checkpoint $shard.checkpoint after SIGTERM"
+[ -f "$shard.checkpoint" ] || fail "no checkpoint $shard.checkpoint within 60 s of SIGTERM"
 say "checkpoint written: ${shard#"$WORK/slurm/"}.checkpoint"
+job_state=""
+for _ in $(seq 240); do
+  job_state=$(scontrol show job -o "$job" | grep -o 'JobState=[A-Z_]*')
+  case "$job_state" in *=RUNNING | *=COMPLETING | *=SIGNALING) sleep 0.25 ;; *) break ;; esac
+done
+say "job $job ended: $job_state, $(scontrol show job -o "$job" | grep -o 'ExitCode=[0-9:]*');" \
+  "cluster-status says: $("$ROOT/workflow/profiles/slurm/cluster-status.sh" "$job")"
 
 wait "$SNAKEMAKE_PID" || { SNAKEMAKE_PID=""; fail "SLURM run failed (see $WORK/log/slurm.log)"; }
 SNAKEMAKE_PID=""
