@@ -100,8 +100,9 @@ rule grw05_shard:
     threads: run_threads
     resources:
         mem_mb=run_mem_mb,
+    # exec: no shell between Snakemake and the simulator, which alone answers SIGTERM (checkpoint)
     shell:
-        "{input.granboltz} run {input.config} -o {output.h5} --threads {threads}"
+        "exec {input.granboltz} run {input.config} -o {output.h5} --threads {threads}"
         " --set shard.index={wildcards.i} --set shard.count={wildcards.S}"
         " --set checkpoint.every_seconds={params.checkpoint_seconds} > {log} 2>&1"
 
