@@ -204,7 +204,8 @@ say "SLURM run: $(($(date +%s) - t0)) s, $(grep -c 'Submitted job' "$WORK/log/sl
 
 # ------------------------------------------------------------------------------ checks
 resumed=$(/usr/bin/python3 -c 'import h5py, sys
-print(h5py.File(sys.argv[1], "r")["provenance"].attrs["resumed_from_checkpoint"])' "$shard")
+v = h5py.File(sys.argv[1], "r")["provenance"].attrs["resumed_from_checkpoint"]
+print(v.decode() if isinstance(v, bytes) else v)' "$shard")
 [ "$resumed" = yes ] || fail "the resubmitted shard did not resume from its checkpoint"
 say "the resubmitted job resumed from the checkpoint (${shard#"$WORK/slurm/"}: resumed_from_checkpoint = yes)"
 [ ! -e "$shard.checkpoint" ] || fail "checkpoint left behind"
