@@ -6,7 +6,7 @@ BUILD ?= build
 JOBS ?= 2
 PROFILE ?= config/quick.yaml
 
-.PHONY: all deps deps-browser build python test test-cpp test-python test-sanitize reproduce check-tables paper bench sanitize clean
+.PHONY: all deps deps-browser build python test test-cpp test-python test-sanitize test-slurm reproduce check-tables paper bench sanitize clean
 
 all: build
 
@@ -59,6 +59,13 @@ test-sanitize: deps
 	  -DGRANBOLTZ_BENCH=OFF
 	cmake --build $(SANITIZE_BUILD) -j $(JOBS)
 	cd $(SANITIZE_BUILD) && ctest --output-on-failure -j $(JOBS) -LE slow
+
+## make test-slurm: the SLURM profile against a one-node SLURM started here (munge, slurmctld,
+## slurmd; installs slurm-wlm and munge): GRW05 tail shards, merges and a table through the
+## profile, one job preempted and resumed, results identical to the local run (exit 77: this
+## machine cannot host SLURM)
+test-slurm: deps build
+	bash scripts/test-slurm.sh
 
 ## make bench: whole-run benchmarks (median of REPEAT runs, with the random-number floor) as a
 ## table and bench/results.csv, then the kernel benchmarks (Google Benchmark)

@@ -16,7 +16,9 @@
 namespace {
 
 // An interrupted run removes its temporary output, so nothing half-written is left behind.
+// SIGTERM to a run that checkpoints instead asks for a last checkpoint (then the run stops).
 extern "C" void on_signal(int sig) {
+  if (sig == SIGTERM && granboltz::request_final_checkpoint()) return;
   const char* tmp = granboltz::current_temporary_output();
   if (tmp && tmp[0]) ::unlink(tmp);
   ::_exit(128 + sig);

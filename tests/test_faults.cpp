@@ -245,3 +245,66 @@ dsmc:
     granboltz::test::expect_identical_outputs(reference, out);
   }
 }
+
+TEST(Checkpoint, SigtermWritesACheckpointStopsAndTheRerunGivesTheUninterruptedOutput) {
+  // What a batch system does before preempting a job: SIGTERM. A run that checkpoints saves its
+  // state at the next safe point (ensembles in progress included) and exits with 128 + SIGTERM,
+  // leaving no output; the same command then resumes to the uninterrupted output.
+  TempDir dir;
+  const std::string cfg = dir.write("c.yaml", R"(model: dsmc
+seed: 41
+ensembles: 3
+checkpoint: {every_seconds: 3600}
+dsmc:
+  particles: 60000
+  alpha: 0.5
+  beta: 1
+  gamma: 4
+  kernel: {lambda: 1, C: 0.0795774715459477}
+  t_end: 4
+  observe_every: 0.5
+  histogram: {shells: 8, radius: 8}
+)");
+  const std::string reference = dir.file("reference.h5"), out = dir.file("out.h5");
+  expect_ok(run_granboltz("run " + cfg + " -q --threads 2 -o " + reference));
+  namespace fs = std::filesystem;
+  const std::string ckpt = out + ".checkpoint";
+  const pid_t pid = spawn({"run", cfg, "-q", "--threads", "2", "-o", out});
+  // The hourly checkpoint is never due: only SIGTERM can make one. Signal once the run has its
+  // temporary output (the signal handler is installed before it is created).
+  for (int i = 0; i < 3000 && dir.entries() < 3; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  ::kill(pid, SIGTERM);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
+  EXPECT_EQ(WEXITSTATUS(status), 128 + SIGTERM);
+  ASSERT_TRUE(fs::exists(ckpt)) << "no checkpoint written on SIGTERM";
+  {
+    H5Reader c(ckpt);
+    EXPECT_TRUE(c.exists("/in_progress")) << "no ensemble saved in progress";
+  }
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_EQ(dir.entries(), 3u);  // c.yaml, reference.h5, the checkpoint: no temporary output
+  const auto r = run_granboltz("run " + cfg + " --threads 2 -o " + out);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("resuming from"), std::string::npos) << r.output;
+  granboltz::test::expect_identical_outputs(reference, out);
+  EXPECT_EQ(dir.entries(), 3u);  // c.yaml, reference.h5, out.h5
+}
+
+TEST(Checkpoint, SigtermToARunWithoutCheckpointsLeavesNothing) {
+  TempDir dir;
+  const std::string cfg = dir.write("c.yaml", kDsmc);
+  const pid_t pid = spawn({"run", cfg, "-q", "--set", "ensembles=100000", "-o", dir.file("o.h5")});
+  for (int i = 0; i < 3000 && dir.entries() < 2; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  ::kill(pid, SIGTERM);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 128 + SIGTERM);
+  EXPECT_EQ(dir.entries(), 1u);  // c.yaml only: no output, temporary or checkpoint
+}

@@ -95,12 +95,16 @@ rule grw05_shard:
         ex=_one_of(GRW05_SHARDED),
         i=r"\d+",
         S=r"\d+",
+    params:
+        checkpoint_seconds=config["checkpoint_seconds"],
     threads: run_threads
     resources:
         mem_mb=run_mem_mb,
+    # exec: no shell between Snakemake and the simulator, which alone answers SIGTERM (checkpoint)
     shell:
-        "{input.granboltz} run {input.config} -o {output.h5} --threads {threads}"
-        " --set shard.index={wildcards.i} --set shard.count={wildcards.S} > {log} 2>&1"
+        "exec {input.granboltz} run {input.config} -o {output.h5} --threads {threads}"
+        " --set shard.index={wildcards.i} --set shard.count={wildcards.S}"
+        " --set checkpoint.every_seconds={params.checkpoint_seconds} > {log} 2>&1"
 
 
 rule grw05_merge:

@@ -31,7 +31,9 @@ def machine_info():
         except importlib.metadata.PackageNotFoundError:  # Debian's h5py has no metadata
             versions[pkg] = getattr(importlib.import_module(pkg), "__version__", "unknown")
     u = platform.uname()
-    return {"uname": f"{u.system} {u.release} {u.machine}", "cpu": cpu, "cores": workflow.cores or 1,
+    # A cluster run (--profile) has no --cores: each job asks for its own.
+    cores = workflow.cores if workflow.nodes is None else "per-job"
+    return {"uname": f"{u.system} {u.release} {u.machine}", "cpu": cpu, "cores": cores,
             "python": platform.python_version(), **versions}
 
 

@@ -15,6 +15,13 @@ namespace granboltz {
 namespace {
 constexpr auto kFirstReport = std::chrono::seconds(3);
 constexpr auto kReportEvery = std::chrono::seconds(10);
+// While a run checkpoints, the driver looks this often for a request from a signal handler.
+constexpr auto kStopPoll = std::chrono::milliseconds(100);
+
+// Lock-free atomics: set from a signal handler, read by the driver's thread.
+std::atomic<bool> g_checkpointing{false};
+std::atomic<bool> g_final_requested{false};
+static_assert(std::atomic<bool>::is_always_lock_free);
 
 std::string format_seconds(double s) {
   char buf[32];
@@ -24,6 +31,14 @@ std::string format_seconds(double s) {
   return buf;
 }
 }  // namespace
+
+bool request_final_checkpoint() noexcept {
+  if (!g_checkpointing.load()) return false;
+  g_final_requested.store(true);
+  return true;
+}
+
+bool final_checkpoint_requested() noexcept { return g_final_requested.load(); }
 
 unsigned resolve_threads(unsigned threads, std::uint64_t work_items) {
   unsigned t = threads ? threads : std::max(1u, std::thread::hardware_concurrency());
@@ -76,12 +91,16 @@ void for_each_ensemble(const std::vector<std::uint64_t>& ensembles, const Driver
       std::chrono::duration<double>(ticking ? options.checkpoint_every : 3600.0));
   auto next_tick = start + tick_every;
   bool reported = false;
+  if (ticking) g_checkpointing.store(true);
   {
     std::unique_lock<std::mutex> lock(mutex);
     while (running > 0) {
-      const auto wake = ticking ? std::min(next_report, next_tick) : next_report;
+      const auto wake = ticking ? std::min({next_report, next_tick,
+                                            std::chrono::steady_clock::now() + kStopPoll})
+                                : next_report;
       if (finished.wait_until(lock, wake, [&] { return running == 0; })) break;
-      if (ticking && std::chrono::steady_clock::now() >= next_tick) {
+      // A requested final checkpoint is taken like a due one; its callback ends the process.
+      if (ticking && (std::chrono::steady_clock::now() >= next_tick || g_final_requested.load())) {
         lock.unlock();
         std::exception_ptr tick_error;
         try {
@@ -90,6 +109,7 @@ void for_each_ensemble(const std::vector<std::uint64_t>& ensembles, const Driver
           tick_error = std::current_exception();
         }
         lock.lock();
+        g_final_requested.store(false);  // a callback that did not end the process: go on
         if (tick_error) {
           if (!error) error = tick_error;
           stop = true;
@@ -97,6 +117,7 @@ void for_each_ensemble(const std::vector<std::uint64_t>& ensembles, const Driver
         next_tick = std::chrono::steady_clock::now() + tick_every;
         continue;
       }
+      if (std::chrono::steady_clock::now() < next_report) continue;  // woken only to poll
       if (!options.progress) {
         next_report += kReportEvery;
         continue;
@@ -116,6 +137,7 @@ void for_each_ensemble(const std::vector<std::uint64_t>& ensembles, const Driver
       next_report += kReportEvery;
     }
   }
+  g_checkpointing.store(false);
   for (auto& t : pool) t.join();
   if (error) std::rethrow_exception(error);
   if (reported && options.progress) {

@@ -35,6 +35,14 @@ struct DriverOptions {
 void for_each_ensemble(const std::vector<std::uint64_t>& ensembles, const DriverOptions& options,
                        const std::function<void(std::uint64_t, ProgressSlot&)>& body);
 
+/// Asks the running for_each_ensemble to take a checkpoint at once (its next safe point) and
+/// reports whether one will: true only while a run that checkpoints is under way. Safe in a
+/// signal handler (SIGTERM from a batch system before it preempts the job).
+bool request_final_checkpoint() noexcept;
+
+/// Whether request_final_checkpoint was accepted: the checkpoint callback then ends the process.
+bool final_checkpoint_requested() noexcept;
+
 /// The number of worker threads that `threads` (0 = all) means on this machine.
 unsigned resolve_threads(unsigned threads, std::uint64_t work_items);
 

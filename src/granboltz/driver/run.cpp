@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <cstring>
 #include <ctime>
 #include <filesystem>
@@ -168,6 +169,14 @@ void run_to_file(const Config& config, const std::string& path, const DriverOpti
     opts.checkpoint_every = config.checkpoint.every_seconds;
     opts.checkpoint = [&](const Record& r, const std::function<void(H5Writer&)>& in_progress) {
       write_checkpoint(checkpoint, config, r, in_progress);
+      // SIGTERM (a batch system about to preempt the job): stop now, leaving the checkpoint
+      // to resume from and no output; non-zero, so that the job is seen as failed and rerun.
+      if (final_checkpoint_requested()) {
+        std::fprintf(stderr, "[granboltz] %s: SIGTERM: checkpoint written to %s, stopping\n",
+                     options.label.c_str(), checkpoint.c_str());
+        ::unlink(g_temporary);
+        std::_Exit(128 + SIGTERM);
+      }
     };
   }
   if (resumed) opts.resume_from = checkpoint;
