@@ -40,6 +40,8 @@ def grw05_run_config(wildcards):
     """Run config of results/grw05/{ex}/N={N}/n={n}: the experiment's keys, with its histogram."""
     e = GRW05[wildcards.ex]
     extra = {"histogram": dict(e["histogram"])} if "histogram" in e else {}
+    if "moments" in e:
+        extra["moments"] = int(e["moments"])
     label = f"grw05/{wildcards.ex}/n={wildcards.n}"
     return dsmc_run_config(label, e, wildcards.N, wildcards.n, e["t_end"], e["observe_every"],
                            scheme=e.get("scheme", "nosplit"), **extra)
