@@ -202,18 +202,6 @@ double intruder_dsmc_candidates(const IntruderConfig& c, double collisions) {
                                             : body(tv06::power_law_bath(c.bath.a, c.density));
 }
 
-std::string human_bytes(double b) {
-  const char* units[] = {"B", "KiB", "MiB", "GiB", "TiB", "PiB"};
-  int u = 0;
-  while (b >= 1024 && u < 5) {
-    b /= 1024;
-    ++u;
-  }
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.1f %s", b, units[u]);
-  return buf;
-}
-
 std::string human_seconds(double s) {
   char buf[32];
   if (s < 120)
@@ -275,6 +263,18 @@ std::string describe(const RunEstimate& e) {
                 static_cast<unsigned long long>(e.ensembles), e.collisions, e.fictitious, e.kicks,
                 human_bytes(static_cast<double>(e.memory_bytes)).c_str(),
                 human_seconds(e.seconds).c_str(), e.threads, e.threads == 1 ? "" : "s");
+  return buf;
+}
+
+std::string human_bytes(double b) {
+  const char* units[] = {"B", "KiB", "MiB", "GiB", "TiB", "PiB"};
+  int u = 0;
+  while (b >= 1024 && u < 5) {
+    b /= 1024;
+    ++u;
+  }
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.1f %s", b, units[u]);
   return buf;
 }
 

@@ -35,4 +35,7 @@ RunEstimate estimate_run(const Config& config, unsigned threads);
 /// 70.0 MiB; wall time about 1.2 min on 2 threads".
 std::string describe(const RunEstimate& e);
 
+/// A byte count for people: "70.0 MiB".
+std::string human_bytes(double bytes);
+
 }  // namespace granboltz

@@ -12,6 +12,7 @@
 #include <functional>
 #include <limits>
 
+#include "granboltz/driver/estimate.hpp"
 #include "granboltz/dsmc/run.hpp"
 #include "granboltz/stats/exact_sum.hpp"
 #include "granboltz/io/hdf5_io.hpp"
@@ -35,18 +36,6 @@ std::uint64_t available_memory() {
     if (key == "MemAvailable:") return kb * 1024;
   const long pages = sysconf(_SC_PHYS_PAGES), size = sysconf(_SC_PAGE_SIZE);
   return pages > 0 && size > 0 ? static_cast<std::uint64_t>(pages) * size : 0;
-}
-
-std::string human_bytes(double b) {
-  const char* units[] = {"B", "KiB", "MiB", "GiB", "TiB", "PiB"};
-  int u = 0;
-  while (b >= 1024 && u < 5) {
-    b /= 1024;
-    ++u;
-  }
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.1f %s", b, units[u]);
-  return buf;
 }
 
 std::string utc_now() {
