@@ -75,7 +75,7 @@ def moment_verdict(rows):
 
 
 def amplitude_rows(alpha, beta, nu, pmax=40, lam=0.0):
-    """The tail amplitude of the exact steady moments (lambda = 0): rows p, ratio M_{2p+2}/M_2p,
+    """The tail amplitude of the exact steady moments M_0..M_2pmax (lambda = 0): rows p = 0..pmax-2, ratio M_{2p+2}/M_2p,
     a_chi0 (chi = 0), a and chi (from two successive ratios), a_theory = sqrt(nu/beta)."""
     M = mh.steady_moments(pmax, alpha, beta, nu)
     a0 = amplitude_from_moments(M)
