@@ -66,11 +66,11 @@ def moment_verdict(rows):
     out = [r for r in rows if not abs(r["ours"] - r["exact"]) <= r["ci"]]
     zmax = max(abs(r["sigma"]) for r in rows)
     relax = max(abs(r["exact"] / r["exact_steady"] - 1) for r in rows)
-    names = f"M_2…M_{2 * rows[-1]['p']}"
+    names = f"M_2…M_{2 * int(rows[-1]['p'])}"
     tail = f"(max |σ| = {zmax:.1f}; exact at t_end vs steady: ≤ {relax:.1e} relative)"
     if not out:
         return f"agrees: {names} within their ci of the exact values {tail}"
-    bad = ", ".join(f"M_{2 * r['p']} ({r['sigma']:+.1f}σ)" for r in out)
+    bad = ", ".join(f"M_{2 * int(r['p'])} ({r['sigma']:+.1f}σ)" for r in out)
     return f"differs: {len(out)} of {len(rows)} moments outside their ci: {bad} {tail}"
 
 
