@@ -37,10 +37,11 @@ def grw05_runs(ex, particles=None):
 
 
 def grw05_run_config(wildcards):
-    """Run config of results/grw05/{ex}/N={N}/n={n}: the experiment's keys, with its moments and histogram."""
+    """Run config of results/grw05/{ex}/N={N}/n={n}: the experiment's keys, with its histogram."""
     e = GRW05[wildcards.ex]
-    extra = {"moments": e["moments"]} if "moments" in e else {}  # dsmc.moments (docs/output.md)
-    extra.update({"histogram": dict(e["histogram"])} if "histogram" in e else {})
+    extra = {"histogram": dict(e["histogram"])} if "histogram" in e else {}
+    if "moments" in e:
+        extra["moments"] = int(e["moments"])
     label = f"grw05/{wildcards.ex}/n={wildcards.n}"
     return dsmc_run_config(label, e, wildcards.N, wildcards.n, e["t_end"], e["observe_every"],
                            scheme=e.get("scheme", "nosplit"), **extra)
