@@ -178,6 +178,8 @@ def write_fake_histogram_run(path, lam=0.0, R=40.0, a=0.5, b=1.0, total=None, n=
         f["histogram/edges"] = edges
         f["histogram/mean"] = np.vstack([initial, final])
         f["histogram/counts"] = np.vstack([np.rint(initial * n * N), counts]).astype(np.uint64)
+        f.attrs["confidence_lambda_p"] = 3.2  # multinomial standard errors of the fractions, times lambda_p
+        f["histogram/ci"] = 3.2 * np.sqrt(f["histogram/mean"][()] * (1 - f["histogram/mean"][()]) / (n * N))
     return path
 
 

@@ -183,12 +183,26 @@ def test_tail_exponent_script_recovers_b(run_script, tmp_path):
     out, windows = tmp_path / "grw05_tail_exponents.csv", tmp_path / "grw05_tail_windows.csv"
     tails = {"k0": 1, "min_count": 1, "histogram": "density", "fit_window": [2.0, 3.0],
              "windows": [[1.5, 2.5], [2.0, 3.0]]}
-    run_script("tail_exponents.py", input=runs, output={"csv": str(out), "windows": str(windows)},
+    tails["local"] = {"pool_min_count": 400, "half_width": 4, "step": 2, "far_ci": 0.15, "tail_from": 0.01,
+                      "paper_window": [4.25, 4.6]}
+    local = []
+    for ex in (7, 8, 9):  # the local-exponent figures, whose summaries feed the table
+        names = {k: str(tmp_path / f"local{ex}.{k}") for k in ("png", "pdf")}
+        names["summary"] = str(tmp_path / f"local{ex}.json")
+        run_script("tail_local.py", input={"runs": runs[f"ex{ex}"]}, output=names,
+                   params={"tails": tails, "example": ex})
+        assert _is_png(tmp_path / f"local{ex}.png", 5_000)
+        local.append(names["summary"])
+    run_script("tail_exponents.py", input={**runs, "local": local}, output={"csv": str(out), "windows": str(windows)},
                params={"tails": tails})
     rows = _rows(out)
     assert list(rows[0])[:7] == ["example", "kernel", "lambda", "theory_b", "b", "b_stderr", "fit_window"]
     for r in rows:  # exact histograms (eq. 38 with b = theory): b to the 6 digits of the CSV
         assert float(r["b"]) == pytest.approx(float(r["theory_b"]), rel=1e-5) and float(r["b_stderr"]) < 1e-6
+        # density exp(-a ((k - 1) h)^b), constant per shell: b(r) and a close to b and a = 0.5
+        assert float(r["b_local_far"]) == pytest.approx(float(r["theory_b"]), abs=0.03)
+        assert float(r["a_fit"]) == pytest.approx(0.5, rel=0.05) and float(r["r_far"]) > 0
+    assert [float(r["a_theory"]) for r in rows] == pytest.approx([0.7303, 0.4869, 0.5842], abs=1e-4)
     assert len(_rows(windows)) == 3 * 2 * 2
 
 

@@ -251,12 +251,38 @@ report_item("GRW05", "Fig. 4", rules.grw05_fig4, "figure", rules.grw05_fig4.outp
             runs=rules.grw05_fig4.input.runs, run_rule=rules.grw05_run, summary=rules.grw05_fig4.output.summary)
 
 
+# ----------------------------------------------------------------------------- local exponents
+# b(r) of each tail example, one job each (they run side by side; issue 10, items 3-4).
+for _ex in ("ex7", "ex8", "ex9"):
+
+    rule:
+        name:
+            f"grw05_tail_local_{_ex}"
+        input:
+            runs=grw05_runs(_ex),
+        output:
+            png=report(f"figures/grw05_tail_local_{_ex}.png", caption="../report/grw05_tail_local.rst",
+                       category="GRW05"),
+            pdf=f"figures/grw05_tail_local_{_ex}.pdf",
+            summary=f"results/figures/grw05_tail_local_{_ex}.json",
+        log:
+            f"logs/figures/grw05_tail_local_{_ex}.log",
+        benchmark:
+            f"benchmarks/figures/grw05_tail_local_{_ex}.tsv"
+        params:
+            tails=GRW05["tails"],
+            example=int(_ex[2:]),
+        script:
+            "../scripts/tail_local.py"
+
+
 # ----------------------------------------------------------------------------- tail exponents
 rule grw05_tail_exponents:
     input:
         ex7=grw05_runs("ex7"),
         ex8=grw05_runs("ex8"),
         ex9=grw05_runs("ex9"),
+        local=[getattr(rules, f"grw05_tail_local_{ex}").output.summary for ex in ("ex7", "ex8", "ex9")],
     output:
         csv=report("results/tables/grw05_tail_exponents.csv", caption="../report/grw05_tails.rst", category="GRW05"),
         windows="results/tables/grw05_tail_windows.csv",
@@ -268,12 +294,6 @@ rule grw05_tail_exponents:
         tails=GRW05["tails"],
     script:
         "../scripts/tail_exponents.py"
-
-
-report_item("GRW05", "Tail exponents", rules.grw05_tail_exponents, "table", rules.grw05_tail_exponents.output.csv,
-            "least-squares slope b of (x_k, y_k), eq. (38), on x ∈ [4.25, 4.6]: 0.998 (λ = 0), 1.474 (λ = 1), 1.266 (λ = 1/2)",
-            runs=rules.grw05_tail_exponents.input, run_rule=rules.grw05_run, compare="tails",
-            published="grw05_tail_exponents", extra=[rules.grw05_tail_exponents.output.windows])
 
 
 # ----------------------------------------------------------------------------- Figs. 5-7
@@ -306,6 +326,47 @@ for _fig, _ex, _what in (
     _rule = getattr(rules, f"grw05_fig{_fig}")
     report_item("GRW05", f"Fig. {_fig}", _rule, "figure", _rule.output.png, _what, runs=_rule.input.runs,
                 run_rule=rules.grw05_run, summary=_rule.output.summary)
+
+
+# The tail section of the report: Figs. 5-7, the paper's fit (published vs ours, with the theory a,
+# b and the local exponents), the Ex. 7 moments, the local-exponent figures with their verdicts.
+report_item("GRW05", "Tail exponents", rules.grw05_tail_exponents, "table", rules.grw05_tail_exponents.output.csv,
+            "least-squares slope b of (x_k, y_k), eq. (38), on x ∈ [4.25, 4.6]: 0.998 (λ = 0), 1.474 (λ = 1), 1.266 (λ = 1/2)",
+            runs=[*rules.grw05_tail_exponents.input.ex7, *rules.grw05_tail_exponents.input.ex8,
+                  *rules.grw05_tail_exponents.input.ex9], run_rule=rules.grw05_run, compare="tails",
+            published="grw05_tail_exponents", extra=[rules.grw05_tail_exponents.output.windows])
+
+
+# ----------------------------------------------------------------------------- Ex. 7 moments
+rule grw05_ex7_moments:
+    input:
+        runs=grw05_runs("ex7"),
+    output:
+        csv=report("results/tables/grw05_ex7_moments.csv", caption="../report/grw05_ex7_moments.rst",
+                   category="GRW05"),
+        amplitude="results/tables/grw05_ex7_amplitude.csv",
+    log:
+        "logs/tables/grw05_ex7_moments.log",
+    benchmark:
+        "benchmarks/tables/grw05_ex7_moments.tsv"
+    params:
+        moments=8,  # M_2 ... M_16 against the exact hierarchy (issue 10)
+        pmax=40,  # the amplitude from the growth of M_2p up to p = 40 (issue 10: at least 30)
+    script:
+        "../scripts/grw05_ex7_moments.py"
+
+
+report_item("GRW05", "Ex. 7 moments", rules.grw05_ex7_moments, "table", rules.grw05_ex7_moments.output.csv,
+            "(not in the paper; issue 10) M_2 … M_16 of the Example 7 final state against the exact moment hierarchy "
+            "for λ = 0, and the tail amplitude a = √(ν/β) from the growth of the exact moments",
+            runs=rules.grw05_ex7_moments.input.runs, run_rule=rules.grw05_run, compare="ex7_moments",
+            extra=[rules.grw05_ex7_moments.output.amplitude])
+for _ex, _b in (("ex7", "1"), ("ex8", "1.5"), ("ex9", "1.25")):
+    _rule = getattr(rules, f"grw05_tail_local_{_ex}")
+    report_item("GRW05", f"Tail local exponent Ex. {_ex[2:]}", _rule, "figure", _rule.output.png,
+                f"(not in the paper; issue 10) local exponent b(r) with its band against theory b = {_b}, the "
+                "paper's window and where the data run out", runs=_rule.input.runs, run_rule=rules.grw05_run,
+                summary=_rule.output.summary)
 
 
 GRW05_OUTPUTS = [item["output"] for item in REPORT_ITEMS if item["paper"] == "GRW05"]

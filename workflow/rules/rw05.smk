@@ -159,8 +159,27 @@ rule rw05_fig3:
         "benchmarks/figures/rw05_fig3.tsv"
     params:
         label="n",
+        exact=True,
     script:
         "../scripts/crit_curves.py"
+
+
+rule rw05_moments:
+    input:
+        runs=rules.rw05_fig3.input.runs,
+    output:
+        png=report("figures/rw05_moments.png", caption="../report/rw05_moments.rst", category="RW05"),
+        pdf="figures/rw05_moments.pdf",
+        summary="results/figures/rw05_moments.json",
+        csv="results/tables/rw05_moments.csv",
+    log:
+        "logs/figures/rw05_moments.log",
+    benchmark:
+        "benchmarks/figures/rw05_moments.tsv"
+    params:
+        times=[1, 2, 3, 4, 5, 6, 7, 8],  # the rows of the table (Crit(t) of tails.md)
+    script:
+        "../scripts/rw05_moments.py"
 
 
 rule rw05_fig4:
@@ -184,6 +203,11 @@ rule rw05_fig4:
 report_item("RW05", "Fig. 3", rules.rw05_fig3, "figure", rules.rw05_fig3.output.png,
             "no-splitting Crit(t) (eq. 29) for n = 256, 1024, 4096 (from below), N = 65536, 16384, 4096: grows from 0 to a positive steady value",
             runs=rules.rw05_fig3.input.runs, run_rule=rules.rw05_run, summary=rules.rw05_fig3.output.summary)
+report_item("RW05", "moments", rules.rw05_moments, "figure", rules.rw05_moments.output.png,
+            "(not in the paper; issue 10) ⟨|v − V|⁴⟩(t) and Crit(t) of the Fig. 3 runs against the exact curves of "
+            "the moment hierarchy (λ = 0), exact Crit(∞) = 0.11907",
+            runs=rules.rw05_moments.input.runs, run_rule=rules.rw05_run, summary=rules.rw05_moments.output.summary,
+            extra=[rules.rw05_moments.output.csv])
 report_item("RW05", "Fig. 4", rules.rw05_fig4, "figure", rules.rw05_fig4.output.png,
             "Crit(t) for K = 32, n = N = 4096: no-splitting (thick), Strang (upper thin) ≈ no-splitting, Euler (lower thin) off",
             runs=rules.rw05_fig4.input.runs, run_rule=rules.rw05_run, summary=rules.rw05_fig4.output.summary)

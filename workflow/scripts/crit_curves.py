@@ -2,7 +2,8 @@
 
 params.label = "n" (Fig. 3): no-splitting runs for several (n, N), one curve each ("from below"
 n = 256, 1024, 4096). params.label = "scheme" (Fig. 4): the no-splitting (thick), Strang and
-Euler runs (thin) at one n, N, K. Crit is eq. (29) of the ensemble means of the moments
+Euler runs (thin) at one n, N, K. params.exact (Fig. 3): also the exact Crit(t) and Crit(inf)
+of the moment hierarchy (lambda = 0; issue 10). Crit is eq. (29) of the ensemble means of the moments
 (granboltz.dsmc.crit_of_means: it starts from zero for the Maxwellian of eq. 26, as in the
 paper; the mean of the per-ensemble Crit, the simulator's /crit, carries a sampling bias of
 order 1/sqrt(n) and is only given in the summary). The summary gives Crit(t_end) +- ci.
@@ -14,6 +15,8 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
 from granboltz.dsmc import crit_of_means, read_dsmc  # noqa: E402
 from granboltz.files import write_json  # noqa: E402
+from granboltz.maxwell_hierarchy import crit_exact, crit_steady  # noqa: E402
+from granboltz.moment_checks import hierarchy_physics  # noqa: E402
 from granboltz.plotting import figure_summary, pyplot, save_figure  # noqa: E402
 
 NAMES = {"nosplit": "no-splitting", "strang": "Strang splitting", "euler": "Euler splitting"}
@@ -39,6 +42,12 @@ for run, dashes in zip(runs, [(1, 0), (6, 2), (2, 1.5), (4, 1, 1, 1)]):
     per_ensemble[name] = float(run.crit[-1]) if run.crit is not None else None
     print(f"{name}: Crit(t_end) = {crit[-1]:.5f} +- {ci[-1]:.5f}; per-ensemble mean {per_ensemble[name]}",
           file=sys.stderr)
+if getattr(snakemake.params, "exact", False):  # Fig. 3 (lambda = 0): the exact Crit(t) and Crit(inf)
+    t = runs[0].time
+    alpha, beta, nu, T0 = hierarchy_physics(runs[0].config)
+    ax.plot(t, crit_exact(t, alpha, beta, nu, T0), color="0.5", lw=2.2, alpha=0.6, zorder=0, label="exact")
+    c_inf = crit_steady(alpha, beta, nu)
+    ax.axhline(c_inf, color="0.5", lw=0.7, ls=":", label=f"exact Crit$(\\infty) = {c_inf:.5f}$")
 ax.set_xlim(runs[0].time[0], runs[0].time[-1])
 ax.set_ylim(bottom=0)
 ax.set_xlabel("$t$")

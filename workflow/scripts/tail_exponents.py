@@ -6,23 +6,31 @@ from the final histogram (params.tails.histogram: the shell fractions of eq. 37 
 shell volumes, "density", or as they are, "fraction"); theory b = 1 + lambda/2 (eqs. 20, 21).
 Output csv: the exponent table (granboltz.tails.TAIL_COLUMNS); output windows: b of every
 example on every window of params.tails.windows and for both normalisations (WINDOW_COLUMNS).
+The exponent table also takes the local-exponent numbers of each example (input local: the
+summaries of rule grw05_tail_local_ex*, granboltz.tail_local; columns tails.LOCAL_COLUMNS).
 """
 
+import json
 import sys
 
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
 from granboltz.dsmc import read_histogram  # noqa: E402
 from granboltz.files import write_csv  # noqa: E402
-from granboltz.tails import TAIL_COLUMNS, tail_rows, WINDOW_COLUMNS  # noqa: E402
+from granboltz.tails import LOCAL_COLUMNS, TAIL_COLUMNS, tail_rows, WINDOW_COLUMNS  # noqa: E402
 
 tails = snakemake.params.tails
 hists = {}
 for name in ("ex7", "ex8", "ex9"):
     (path,) = getattr(snakemake.input, name)
     hists[int(name[2:])] = read_histogram(path)
-rows, wrows = tail_rows(hists, tails)
-write_csv(rows, TAIL_COLUMNS, snakemake.output.csv, digits=6)
+local = {}
+for path in snakemake.input.local:
+    with open(path) as f:
+        numbers = json.load(f)["numbers"]
+    local[int(numbers["example"])] = numbers
+rows, wrows = tail_rows(hists, tails, local)
+write_csv(rows, TAIL_COLUMNS + LOCAL_COLUMNS, snakemake.output.csv, digits=6)
 write_csv(wrows, WINDOW_COLUMNS, snakemake.output.windows, digits=6)
 for row in rows + wrows:
     print(row, file=sys.stderr)

@@ -35,7 +35,7 @@ class DsmcRun:
     V: np.ndarray  # mean bulk velocity (GRW05 eq. 12), [M+1, 3]
     crit: np.ndarray = None  # Crit(t) of RW05 eq. (29) per ensemble, averaged, [M+1]
     crit_ci: np.ndarray = None
-    moments: dict = None  # ensemble means (and ci) of pressure_tensor, heat_flux, fourth_moment
+    moments: dict = None  # ensemble means (and ci) of pressure_tensor, heat_flux, fourth_moment[, moment_4]
     attrs: dict = field(default_factory=dict)  # version, git_sha, wall_seconds
 
     @property
@@ -61,6 +61,8 @@ def read_dsmc(path):
         crit = "crit/mean" in f
         names = ("pressure_tensor/mean", "heat_flux/mean", "fourth_moment/mean", "fourth_moment/ci")
         moments = {name: read_finite(f, name, path) for name in names} if all(n in f for n in names) else None
+        if moments is not None and "moment_4/mean" in f:  # <|v - V|^4> (dsmc.moments >= 2)
+            moments.update({name: read_finite(f, name, path) for name in ("moment_4/mean", "moment_4/ci")})
         return DsmcRun(
             path=str(path),
             config=config,

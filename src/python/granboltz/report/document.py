@@ -7,7 +7,7 @@ from .convergence import compare_convergence, compare_rw05_table1, compare_rw05_
 from .numbers import VERDICT_MARKS, VERDICT_MEANING, marked, num
 from .render import anchor
 from .steady import compare_effort, compare_replicas, compare_steady
-from .tails import compare_tails
+from .tails import compare_ex7_moments, compare_tails
 from .tv06 import compare_tv06_dsmc, compare_tv06_needle, compare_tv06_temperature
 
 
@@ -20,7 +20,8 @@ def plain_table(name, ours, published=None, **_):
 
 COMPARE = {"convergence": compare_convergence, "rw05_table1": compare_rw05_table1,
            "rw05_table2": compare_rw05_table2, "steady": compare_steady, "effort": compare_effort,
-           "tails": compare_tails, "replicas": compare_replicas, "tv06_temperature": compare_tv06_temperature,
+           "tails": compare_tails, "ex7_moments": compare_ex7_moments, "replicas": compare_replicas,
+           "tv06_temperature": compare_tv06_temperature,
            "tv06_needle": compare_tv06_needle, "tv06_dsmc": compare_tv06_dsmc, None: plain_table}
 
 # ----------------------------------------------------------------------------- the document
