@@ -163,24 +163,25 @@ void reduce_particles(Particles& p, std::vector<double>& g, std::size_t target,
   const Vec3 V = (1.0 / G) * M;
   double E = 0.0;
   for (std::size_t i = 0; i < p.size(); ++i) E += g[i] * norm2(p[i].v - V);
-  const double h0 = 0.25 * std::sqrt(std::max(E / (3.0 * G), 1e-300));
+  const double h0 = 0.5 * std::sqrt(std::max(E / (3.0 * G), 1e-300));
   double h = h0;
   // A merged group weighs at most w_cap = 8 G / target: merging whole crowded cells again and
   // again would concentrate the mass on a few heavy particles (the effective number 1/sum g^2
   // fell to ~15 of 3200 in a Maxwell steady state), and their kicks would make the total momentum
   // random-walk. Relaxed (doubled) only if cells up to 16 sqrt(T) cannot reach the target.
   double w_cap = 8.0 * G / static_cast<double>(target);
-  using Key = std::array<std::int64_t, 3>;
-  std::vector<std::pair<Key, std::uint32_t>> keyed;
+  // A cell is 21 bits per axis packed in one word (one comparison per sort step); the clamp at
+  // 2^20 cells, beyond 10^5 sqrt(T), is never reached.
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed;
   std::vector<std::uint32_t> members, cell;
   while (p.size() > target) {
     keyed.resize(p.size());
     for (std::size_t i = 0; i < p.size(); ++i) {
       const Vec3 w = (1.0 / h) * (p[i].v - V);
       auto bin = [](double x) {
-        return static_cast<std::int64_t>(std::floor(std::clamp(x, -1e15, 1e15)));
+        return static_cast<std::uint64_t>(std::floor(std::clamp(x, -0x1p20, 0x1p20 - 1)) + 0x1p20);
       };
-      keyed[i] = {{bin(w.x), bin(w.y), bin(w.z)}, static_cast<std::uint32_t>(i)};
+      keyed[i] = {(bin(w.x) << 42) | (bin(w.y) << 21) | bin(w.z), static_cast<std::uint32_t>(i)};
     }
     std::sort(keyed.begin(), keyed.end());
     // Cells as runs of equal keys, most crowded first (ties: in key order, deterministic).

@@ -62,7 +62,7 @@ void merge_group(Particles& p, std::vector<double>& g, std::span<const std::uint
                  Reduction reduction, Vec3 e);
 
 /// Reduces the system to at most `target` particles by merging crowded groups: the particles are
-/// binned on a cubic grid of width h sqrt(T) about the bulk velocity (h = 1/4, doubled until
+/// binned on a cubic grid of width h sqrt(T) about the bulk velocity (h = 1/2, doubled until
 /// enough particles can be merged) and the most crowded cells (at least 3 particles) are merged
 /// first, so that sparse cells, the light tail particles among them, survive. Removes the
 /// zero-weight slots. Deterministic given the particles and the engine.
