@@ -36,6 +36,10 @@ const char* thermostat_name(Thermostat t) {
   return "?";
 }
 
+const char* reduction_name(Reduction r) {
+  return r == Reduction::kHeatFlux ? "heat_flux" : "energy";
+}
+
 std::uint64_t DsmcConfig::observations() const {
   return static_cast<std::uint64_t>(std::llround(t_end / observe_every));
 }
@@ -133,10 +137,36 @@ DsmcConfig read_dsmc(const Section& s) {
     s.check(c.steady_from >= 0 && c.steady_from < c.t_end, "steady_from", c.steady_from,
             "must satisfy 0 <= steady_from < t_end");
   }
+  if (s.has("weights")) {
+    const Section w = s.sub("weights");
+    w.choice("method", {"swpm"});
+    c.weights.swpm = true;
+    c.weights.kappa = w.real("kappa");
+    w.check(c.weights.kappa >= 0 && c.weights.kappa <= 1e6, "kappa", c.weights.kappa,
+            "must satisfy 0 <= kappa <= 10^6");
+    c.weights.max_particles = w.integer("max_particles");
+    w.check(c.weights.max_particles >= c.particles && c.weights.max_particles >= 16 &&
+                c.weights.max_particles <= 1'000'000'000,
+            "max_particles", static_cast<double>(c.weights.max_particles),
+            "must satisfy max(16, dsmc.particles = " + std::to_string(c.particles) +
+                ") <= max_particles <= 10^9");
+    c.weights.reduction = w.choice("reduction", {"energy", "heat_flux"}, "energy") == "heat_flux"
+                              ? Reduction::kHeatFlux : Reduction::kEnergy;
+    w.finish({"method", "kappa", "max_particles", "reduction"});
+    // What the weighted engine (dsmc/weighted.cpp) implements; refused rather than half-done.
+    if (c.scheme != Scheme::kNoSplit)
+      throw ConfigError(s.name("weights") + ": method swpm supports only scheme nosplit (not " +
+                        scheme + "): new particles are born with their own kick time");
+    if (c.thermostat == Thermostat::kGaussian)
+      throw ConfigError(s.name("weights") + ": method swpm supports thermostat white_noise or "
+                        "none, not gaussian");
+    if (c.majorant == MajorantKind::kPairwise)
+      throw ConfigError(s.name("weights") + ": method swpm supports only majorant: global");
+  }
   s.finish({"particles", "scheme", "steps", "alpha", "beta", "thermostat", "gamma", "kernel",
             "initial", "t_end", "observe_every", "histogram", "majorant", "majorant_update",
             "moments",
-            "steady_from"});
+            "steady_from", "weights"});
   return c;
 }
 
@@ -168,6 +198,13 @@ void emit_dsmc(YAML::Emitter& out, const DsmcConfig& c) {
       << (c.majorant_update == MajorantUpdate::kStrict ? "strict" : "paper");
   out << YAML::Key << "moments" << YAML::Value << c.moments;
   if (c.steady) out << YAML::Key << "steady_from" << YAML::Value << format_real(c.steady_from);
+  if (c.weights.swpm)  // absent for constant weights: their provenance stays as before
+    out << YAML::Key << "weights" << YAML::Value << YAML::Flow << YAML::BeginMap
+        << YAML::Key << "method" << YAML::Value << "swpm"
+        << YAML::Key << "kappa" << YAML::Value << format_real(c.weights.kappa)
+        << YAML::Key << "max_particles" << YAML::Value << c.weights.max_particles
+        << YAML::Key << "reduction" << YAML::Value << reduction_name(c.weights.reduction)
+        << YAML::EndMap;
   out << YAML::EndMap;
 }
 

@@ -32,6 +32,15 @@ struct HistogramSpec {
   double radius = 0.0;       ///< R
 };
 
+/// dsmc.weights: the stochastic weighted particle method (SWPM, Rjasanow & Wagner 1996/2005).
+enum class Reduction { kEnergy, kHeatFlux };
+struct WeightsSpec {
+  bool swpm = false;               ///< false: constant weights 1/n (the papers)
+  double kappa = 0.0;              ///< kappa >= 0: pair rate (1 + kappa) max(g_i, g_j) B
+  std::uint64_t max_particles = 0; ///< N_max: a reduction runs when the count exceeds it
+  Reduction reduction = Reduction::kEnergy;
+};
+
 struct DsmcConfig {
   std::uint64_t particles = 0;  ///< n
   Scheme scheme = Scheme::kNoSplit;
@@ -49,6 +58,7 @@ struct DsmcConfig {
   int moments = 4;          ///< P: observe <|v - V|^{2p}> for p = 1..P (0 <= P <= kMaxMoments)
   bool steady = false;      ///< time averages over the observations with t > steady_from
   double steady_from = 0.0;
+  WeightsSpec weights;      ///< dsmc.weights (absent: constant weights)
 
   std::uint64_t observations() const;  ///< M: observation times are t_m, m = 0..M
   double time_step() const { return t_end / static_cast<double>(steps); }
@@ -58,5 +68,6 @@ DsmcConfig read_dsmc(const Section& s);
 void emit_dsmc(YAML::Emitter& out, const DsmcConfig& c);
 const char* scheme_name(Scheme s);
 const char* thermostat_name(Thermostat t);
+const char* reduction_name(Reduction r);
 
 }  // namespace granboltz

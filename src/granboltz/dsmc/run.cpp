@@ -10,6 +10,7 @@
 
 #include "granboltz/dsmc/ensemble.hpp"
 #include "granboltz/dsmc/observables.hpp"
+#include "granboltz/dsmc/weighted.hpp"
 
 namespace granboltz {
 
@@ -51,6 +52,12 @@ Record dsmc_layout(const Config& config) {
   if (P) r.declare_moments("moment_series", rows * P);
   if (P && d.steady) r.declare_moments("moment_steady", P);
   for (const ColumnSpec& c : kColumns) r.declare_column(c.path, c.floating);
+  if (d.weights.swpm) {
+    // SWPM: the histogram's weight per shell (f_k itself), beside the particle numbers above.
+    if (d.histogram.shells) r.declare_moments("histogram_weight", rows * (d.histogram.shells + 1));
+    r.declare_column("/events/reductions", false);
+    r.declare_column("/events/particles_final", false);
+  }
   return r;
 }
 
@@ -59,17 +66,24 @@ namespace {
 /// An ensemble under way: the particle system and what has been observed so far.
 struct InProgress {
   std::unique_ptr<DsmcEnsemble> ensemble;
+  std::unique_ptr<WeightedEnsemble> weighted;  // dsmc.weights: swpm (then `ensemble` is empty)
   std::uint64_t next = 0;              // the next observation index m
   std::vector<Observation> obs;        // [rows]
   std::vector<double> moments;         // [rows * P]: <|v - V|^{2p}>, p = 1..P
-  std::vector<std::uint64_t> hist;     // [rows * K1]
+  std::vector<std::uint64_t> hist;     // [rows * K1]: particles per shell
+  std::vector<double> whist;           // swpm: [rows * K1] weight per shell
 };
 
 std::string in_progress_group(std::uint64_t e) { return "/in_progress/" + std::to_string(e); }
 
 void save_in_progress(H5Writer& out, std::uint64_t e, const InProgress& w) {
   const std::string g = in_progress_group(e);
-  w.ensemble->save(out, g);
+  if (w.weighted) {
+    w.weighted->save(out, g);
+    out.write(g + "/histogram_weight", w.whist, {w.whist.size()});
+  } else {
+    w.ensemble->save(out, g);
+  }
   std::vector<double> obs;
   for (std::uint64_t m = 0; m < w.next; ++m) obs.insert(obs.end(), w.obs[m].begin(), w.obs[m].end());
   out.write(g + "/observations", obs, {w.next, kNumScalars});
@@ -87,7 +101,14 @@ InProgress load_in_progress(const DsmcConfig& d, const H5Reader& in, std::uint64
                             std::uint64_t rows, std::uint64_t K1, ProgressSlot* slot) {
   const std::string g = in_progress_group(e);
   InProgress w;
-  w.ensemble = std::make_unique<DsmcEnsemble>(d, in, g, slot);
+  if (d.weights.swpm) {
+    w.weighted = std::make_unique<WeightedEnsemble>(d, in, g, slot);
+    w.whist = in.read_double(g + "/histogram_weight");
+    if (w.whist.size() != rows * K1)
+      throw std::runtime_error(in.path() + ": malformed ensemble state " + g);
+  } else {
+    w.ensemble = std::make_unique<DsmcEnsemble>(d, in, g, slot);
+  }
   w.next = in.attr_uint64(g, "next_observation");
   const auto obs = in.read_double(g + "/observations");
   w.hist = in.read_uint64(g + "/histogram");
@@ -185,24 +206,39 @@ void run_dsmc(const Config& config, const DriverOptions& options, Record& record
       std::unique_lock<std::mutex> lock(mutex);  // HDF5 (serial build) is not thread-safe
       w = load_in_progress(d, *checkpoint, e, rows, K1, &slot);
     } else {
-      w.ensemble = std::make_unique<DsmcEnsemble>(d, config.seed, e, &slot);
+      if (d.weights.swpm) {
+        w.weighted = std::make_unique<WeightedEnsemble>(d, config.seed, e, &slot);
+        w.whist.assign(rows * K1, 0.0);
+      } else {
+        w.ensemble = std::make_unique<DsmcEnsemble>(d, config.seed, e, &slot);
+      }
       w.obs.resize(rows);
       w.moments.assign(rows * P, 0.0);
       w.hist.assign(rows * K1, 0);
     }
-    DsmcEnsemble& ensemble = *w.ensemble;
+    auto advance = [&](double s) {
+      return w.weighted ? w.weighted->advance_to(s, &pause) : w.ensemble->advance_to(s, &pause);
+    };
     for (; w.next < rows; ++w.next) {
       const std::uint64_t m = w.next;
       if (m > 0)
-        while (!ensemble.advance_to(times[m], &pause)) {
+        while (!advance(times[m])) {
           std::unique_lock<std::mutex> lock(mutex);
           parked[e] = &w;
           changed.notify_all();
           changed.wait(lock, [&] { return !pause.load(); });
           parked.erase(e);
         }
-      w.obs[m] = measure(ensemble.particles(), {w.moments.data() + m * P, P});
-      if (K1) radial_histogram(ensemble.particles(), d.histogram, &w.hist[m * K1]);
+      if (w.weighted) {
+        const WeightedEnsemble& we = *w.weighted;
+        w.obs[m] = measure_weighted(we.particles(), we.weights(), {w.moments.data() + m * P, P});
+        if (K1)
+          radial_histogram_weighted(we.particles(), we.weights(), d.histogram,
+                                    &w.whist[m * K1], &w.hist[m * K1]);
+      } else {
+        w.obs[m] = measure(w.ensemble->particles(), {w.moments.data() + m * P, P});
+        if (K1) radial_histogram(w.ensemble->particles(), d.histogram, &w.hist[m * K1]);
+      }
     }
     // Exact sums: the order in which ensembles arrive here does not matter.
     std::lock_guard<std::mutex> lock(mutex);
@@ -234,9 +270,22 @@ void run_dsmc(const Config& config, const DriverOptions& options, Record& record
       }
     }
     if (K1) record.add_counts("histogram", w.hist);
-    const EventCounts& c = ensemble.counts();
+    if (w.weighted) {
+      const WeightedEnsemble& we = *w.weighted;
+      if (K1) {
+        auto& hw = record.moments("histogram_weight");
+        for (std::size_t k = 0; k < w.whist.size(); ++k) hw[k].add(w.whist[k]);
+      }
+      const EventCounts& c = we.counts();
+      record.add_ensemble(e, {static_cast<double>(c.collisions), static_cast<double>(c.fictitious),
+                              static_cast<double>(c.kicks), we.u_max(),
+                              static_cast<double>(we.reductions()),
+                              static_cast<double>(we.particles().size())});
+      return;
+    }
+    const EventCounts& c = w.ensemble->counts();
     record.add_ensemble(e, {static_cast<double>(c.collisions), static_cast<double>(c.fictitious),
-                            static_cast<double>(c.kicks), ensemble.u_max()});
+                            static_cast<double>(c.kicks), w.ensemble->u_max()});
   });
 }
 
@@ -311,7 +360,15 @@ void present_dsmc(H5Writer& out, const Config& config, const Record& record) {
     for (std::uint64_t k = 0; k < K1; ++k)
       edges[k] = d.histogram.radius * static_cast<double>(k) / static_cast<double>(K1 - 1);
     const double n = static_cast<double>(d.particles), Nd = static_cast<double>(N);
-    for (std::size_t k = 0; k < mean.size(); ++k) {
+    if (d.weights.swpm) {  // f_k = the weight in shell k, from exact sums over ensembles
+      const auto& hw = record.moments("histogram_weight");
+      for (std::size_t k = 0; k < mean.size(); ++k) {
+        const MeanCi s = hw[k].stats(N);
+        mean[k] = s.mean;
+        ci[k] = s.ci;
+      }
+    }
+    for (std::size_t k = 0; k < mean.size() && !d.weights.swpm; ++k) {
       const double f = static_cast<double>(counts[k]) / (n * Nd);
       const double f2 = static_cast<double>(counts_sq[k]) / (n * n * Nd);
       mean[k] = f;

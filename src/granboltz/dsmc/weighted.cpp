@@ -1,0 +1,489 @@
+#include "granboltz/dsmc/weighted.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <stdexcept>
+
+#include "granboltz/physics/collision.hpp"
+#include "granboltz/physics/heating.hpp"
+#include "granboltz/random/samplers.hpp"
+
+namespace granboltz {
+
+namespace {
+constexpr std::uint64_t kPauseMask = (1u << 14) - 1;
+constexpr std::uint64_t kProgressMask = (1u << 18) - 1;
+// The reduction brings the count down to this fraction of N_max: with kappa > 0 a collision adds
+// two particles, so a reduction (O(n log n)) runs once per ~N_max/10 collisions.
+constexpr double kReduceTo = 0.8;
+}  // namespace
+
+// ---- Sum tree ----
+
+void SumTree::resize(std::size_t capacity) {
+  leaves_ = 1;
+  while (leaves_ < capacity) leaves_ *= 2;
+  node_.assign(2 * leaves_, 0.0);
+}
+
+void SumTree::set(std::size_t i, double g) {
+  std::size_t k = leaves_ + i;
+  node_[k] = g;
+  for (k /= 2; k >= 1; k /= 2) node_[k] = node_[2 * k] + node_[2 * k + 1];
+}
+
+std::size_t SumTree::find(double x) const {
+  std::size_t k = 1;
+  while (k < leaves_) {
+    const std::size_t left = 2 * k;
+    // Round-off may leave x just above a subtree's sum: never enter a subtree of weight 0.
+    if (x < node_[left] || node_[left + 1] == 0.0) {
+      k = left;
+    } else {
+      x -= node_[left];
+      k = left + 1;
+    }
+  }
+  return k - leaves_;
+}
+
+// ---- Kernels ----
+
+WeightedMoments weighted_moments(std::span<const Particle> p, std::span<const double> g) {
+  WeightedMoments m;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    m.mass += g[i];
+    m.momentum += g[i] * p[i].v;
+    m.energy += g[i] * norm2(p[i].v);
+  }
+  return m;
+}
+
+Vec3 weighted_heat_flux(std::span<const Particle> p, std::span<const double> g) {
+  double G = 0.0;
+  Vec3 M;
+  for (std::size_t i = 0; i < p.size(); ++i) G += g[i], M += g[i] * p[i].v;
+  const Vec3 V = (1.0 / G) * M;
+  Vec3 q;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const Vec3 w = p[i].v - V;
+    q += (g[i] * norm2(w)) * w;
+  }
+  return q;
+}
+
+int weighted_collide(Particles& p, std::vector<double>& g, std::size_t a, std::size_t b, Vec3 e,
+                     double alpha, double kappa, double t) {
+  Vec3 va = p[a].v, vb = p[b].v;
+  collide(va, vb, e, alpha);
+  // gamma = min(g_a, g_b)/(1 + kappa): for kappa = 0 the lighter partner's remainder is exactly
+  // 0 (x - x/1 = x - x), and with equal weights both are replaced: ordinary DSMC.
+  const double gamma = std::min(g[a], g[b]) / (1.0 + kappa);
+  int appended = 0;
+  const std::size_t idx[2] = {a, b};
+  const Vec3 post[2] = {va, vb};
+  for (int k = 0; k < 2; ++k) {
+    const std::size_t i = idx[k];
+    const double rest = g[i] - gamma;
+    if (rest <= 0.0) {  // replaced: the slot becomes the new particle
+      p[i].v = post[k];
+      p[i].t = t;
+      g[i] = gamma;
+    } else {
+      g[i] = rest;
+      p.push_back(Particle{post[k], t});
+      g.push_back(gamma);
+      ++appended;
+    }
+  }
+  return appended;
+}
+
+void merge_group(Particles& p, std::vector<double>& g, std::span<const std::uint32_t> members,
+                 Reduction reduction, Vec3 e) {
+  double G = 0.0;
+  Vec3 M;
+  for (std::uint32_t i : members) G += g[i], M += g[i] * p[i].v;
+  const Vec3 V = (1.0 / G) * M;
+  double E = 0.0;  // mean |w|^2, w = v - V
+  Vec3 q;          // mean w |w|^2 (the group's central heat flux per unit mass, times 2)
+  for (std::uint32_t i : members) {
+    const Vec3 w = p[i].v - V;
+    const double w2 = norm2(w);
+    E += g[i] * w2;
+    q += (g[i] * w2) * w;
+  }
+  E /= G;
+  q = (1.0 / G) * q;
+  // Two particles V + a e (weight G p) and V - b e (weight G (1 - p)): a two-point law on the
+  // line with mean 0 and variance E for any p, a = sqrt(E (1-p)/p), b = sqrt(E p/(1-p)). Its third
+  // moment is E^{3/2} (1 - 2p)/sqrt(p (1-p)); with e = q/|q| it equals |q| when
+  // 1 - 2p = x, x = s/sqrt(4 + s^2), s = |q|/E^{3/2} (solve 2x/sqrt(1 - x^2) = s): then the
+  // vector heat flux G p a^3 e - G (1-p) b^3 e = G q is kept as well. energy: p = 1/2, e random.
+  double pr = 0.5;
+  const double qn = norm(q);
+  if (reduction == Reduction::kHeatFlux && qn > 0.0 && E > 0.0) {
+    const double s = qn / (E * std::sqrt(E));
+    const double x = s / std::sqrt(4.0 + s * s);
+    pr = 0.5 * (1.0 - x);
+    e = (1.0 / qn) * q;
+  }
+  const double a = std::sqrt(E * (1.0 - pr) / pr), b = std::sqrt(E * pr / (1.0 - pr));
+  const std::uint32_t i0 = members[0], i1 = members[1];
+  const double t = p[i0].t;  // the caller has kicked every member to the same time
+  p[i0] = Particle{V + a * e, t};
+  p[i1] = Particle{V - b * e, t};
+  g[i0] = G * pr;
+  g[i1] = G * (1.0 - pr);
+  for (std::size_t k = 2; k < members.size(); ++k) g[members[k]] = 0.0;
+}
+
+namespace {
+void compact(Particles& p, std::vector<double>& g) {
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (g[i] > 0.0) {
+      p[k] = p[i];
+      g[k] = g[i];
+      ++k;
+    }
+  p.resize(k);
+  g.resize(k);
+}
+}  // namespace
+
+void reduce_particles(Particles& p, std::vector<double>& g, std::size_t target,
+                      Reduction reduction, Engine& eng) {
+  target = std::max<std::size_t>(target, 2);
+  if (p.size() <= target) return;
+  double G = 0.0;
+  Vec3 M;
+  for (std::size_t i = 0; i < p.size(); ++i) G += g[i], M += g[i] * p[i].v;
+  const Vec3 V = (1.0 / G) * M;
+  double E = 0.0;
+  for (std::size_t i = 0; i < p.size(); ++i) E += g[i] * norm2(p[i].v - V);
+  const double h0 = 0.5 * std::sqrt(std::max(E / (3.0 * G), 1e-300));
+  double h = h0;
+  // A merged group weighs at most w_cap = 8 G / target: merging whole crowded cells again and
+  // again would concentrate the mass on a few heavy particles (the effective number 1/sum g^2
+  // fell to ~15 of 3200 in a Maxwell steady state), and their kicks would make the total momentum
+  // random-walk. Relaxed (doubled) only if cells up to 16 sqrt(T) cannot reach the target.
+  double w_cap = 8.0 * G / static_cast<double>(target);
+  // A cell is 21 bits per axis packed in one word (one comparison per sort step); the clamp at
+  // 2^20 cells, beyond 10^5 sqrt(T), is never reached.
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed;
+  std::vector<std::uint32_t> members, cell;
+  while (p.size() > target) {
+    keyed.resize(p.size());
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      const Vec3 w = (1.0 / h) * (p[i].v - V);
+      auto bin = [](double x) {
+        return static_cast<std::uint64_t>(std::floor(std::clamp(x, -0x1p20, 0x1p20 - 1)) + 0x1p20);
+      };
+      keyed[i] = {(bin(w.x) << 42) | (bin(w.y) << 21) | bin(w.z), static_cast<std::uint32_t>(i)};
+    }
+    std::sort(keyed.begin(), keyed.end());
+    // Cells as runs of equal keys, most crowded first (ties: in key order, deterministic).
+    std::vector<std::pair<std::size_t, std::size_t>> cells;  // (start, length)
+    for (std::size_t s = 0; s < keyed.size();) {
+      std::size_t e = s + 1;
+      while (e < keyed.size() && keyed[e].first == keyed[s].first) ++e;
+      if (e - s >= 3) cells.push_back({s, e - s});
+      s = e;
+    }
+    std::stable_sort(cells.begin(), cells.end(),
+                     [](const auto& x, const auto& y) { return x.second > y.second; });
+    std::size_t count = p.size();
+    for (const auto& [start, len] : cells) {
+      if (count <= target) break;
+      // Within a cell, lightest first, in consecutive groups of weight <= w_cap.
+      cell.clear();
+      for (std::size_t k = start; k < start + len; ++k) cell.push_back(keyed[k].second);
+      std::sort(cell.begin(), cell.end(), [&](std::uint32_t x, std::uint32_t y) {
+        return g[x] < g[y] || (g[x] == g[y] && x < y);
+      });
+      members.clear();
+      double w = 0.0;
+      for (std::size_t k = 0; k <= cell.size() && count > target; ++k) {
+        if (k < cell.size() && w + g[cell[k]] <= w_cap) {
+          members.push_back(cell[k]);
+          w += g[cell[k]];
+          continue;
+        }
+        if (members.size() >= 3) {
+          merge_group(p, g, members, reduction, unit_vector(eng));
+          count -= members.size() - 2;
+        }
+        members.clear();
+        w = 0.0;
+        if (k < cell.size() && g[cell[k]] <= w_cap) members.push_back(cell[k]), w = g[cell[k]];
+      }
+    }
+    compact(p, g);
+    h *= 2.0;  // not yet enough: coarser cells
+    if (h > 64.0 * h0) h = h0, w_cap *= 2.0;
+  }
+}
+
+// ---- The weighted ensemble ----
+
+WeightedEnsemble::WeightedEnsemble(const DsmcConfig& config, std::uint64_t seed,
+                                   std::uint64_t ensemble, ProgressSlot* progress)
+    : c_(config),
+      p_(config.particles),
+      g_(config.particles, 1.0 / static_cast<double>(config.particles)),
+      adapt_factor2_(config.majorant_update == MajorantUpdate::kStrict ? 4.0 : 1.0),
+      heated_(config.thermostat == Thermostat::kWhiteNoise && config.beta > 0.0),
+      events_(make_stream(seed, ensemble, Consumer::kEvents)),
+      pairs_(make_stream(seed, ensemble, Consumer::kPairs)),
+      sweep_(make_stream(seed, ensemble, Consumer::kSweep)),
+      reduce_(make_stream(seed, ensemble, Consumer::kReduce)),
+      progress_(progress) {
+  Engine init = make_stream(seed, ensemble, Consumer::kInitial);
+  const double sd = std::sqrt(c_.initial_temperature);
+  Vec3 sum;
+  for (auto& q : p_) {
+    q.v = sd * normal3(init);
+    q.t = 0.0;
+    sum += q.v;
+  }
+  v0_ = (1.0 / static_cast<double>(p_.size())) * sum;
+  double r2 = 0.0;
+  for (const auto& q : p_) r2 = std::max(r2, norm2(q.v - v0_));
+  u_max_ = 2.0 * std::sqrt(r2);
+  rebuild_tree();
+}
+
+void WeightedEnsemble::rebuild_tree() {
+  // At most N_max + 2 particles: a collision adds two, and a reduction follows at once.
+  p_.reserve(c_.weights.max_particles + 2);
+  g_.reserve(c_.weights.max_particles + 2);
+  tree_.resize(c_.weights.max_particles + 2);
+  for (std::size_t i = 0; i < g_.size(); ++i) tree_.set(i, g_[i]);
+}
+
+void WeightedEnsemble::adapt_majorant(const Vec3& v) {
+  const double r2 = adapt_factor2_ * norm2(v - v0_);
+  if (r2 > u_max_ * u_max_) u_max_ = std::sqrt(r2);
+}
+
+void WeightedEnsemble::kick_all_to(double s) {
+  if (heated_) {
+    for (auto& q : p_) {
+      q.v = white_noise_kick(q.v, c_.beta, s - q.t, sweep_);
+      q.t = s;
+    }
+    counts_.kicks += p_.size();
+    if (c_.kernel.lambda != 0.0)
+      for (const auto& q : p_) adapt_majorant(q.v);
+  } else {
+    for (auto& q : p_) q.t = s;
+  }
+}
+
+bool WeightedEnsemble::advance_to(double s, const std::atomic<bool>* pause) {
+  const double alpha = c_.alpha, beta = c_.beta, kappa = c_.weights.kappa;
+  const bool maxwell = c_.kernel.lambda == 0.0;
+  const double K = 4.0 * M_PI * c_.kernel.gamma * c_.kernel.C * (1.0 + kappa);
+  std::uint64_t events = 0;
+  for (;;) {
+    if (pause && (events & kPauseMask) == 0 && pause->load(std::memory_order_relaxed))
+      return false;
+    // Majorant process: the ordered pair (i, j), i != j, is proposed at rate
+    // (1 + kappa) K_B U^lambda g_i, K_B = 4 pi gamma C (i by weight from the sum tree, j uniform
+    // among the n - 1 others), so the unordered pair at rate (1 + kappa) K_B U^lambda (g_i + g_j)
+    // >= (1 + kappa) max(g_i, g_j) B(|u|), B = K_B |u|^lambda. It is a real collision with
+    // probability  max(g_i, g_j)/(g_i + g_j) * min(1, (|u|/U)^lambda)  (the truncated kernel,
+    // RW05 eq. 19, as in the constant-weight scheme): the real rate is (1 + kappa) max(g_i, g_j) B.
+    const double n = static_cast<double>(p_.size()), G = tree_.total();
+    const double rate = K * c_.kernel.power(u_max_) * (n - 1.0) * G;
+    const double tau = exponential(events_) / rate;
+    if (t_ + tau >= s) break;
+    t_ += tau;
+    const std::size_t i = tree_.find(uniform01(pairs_) * G);
+    std::size_t j = uniform_index(pairs_, p_.size() - 1);
+    if (j >= i) ++j;
+    Particle& a = p_[i];
+    Particle& b = p_[j];
+    if (heated_) {
+      white_noise_kick2(a.v, t_ - a.t, b.v, t_ - b.t, beta, events_);
+      a.t = b.t = t_;
+      counts_.kicks += 2;
+      if (!maxwell) adapt_majorant(a.v), adapt_majorant(b.v);
+    }
+    const double gi = g_[i], gj = g_[j];
+    const double accept = std::max(gi, gj) / (gi + gj) *
+                          (maxwell ? 1.0 : c_.kernel.acceptance(norm(a.v - b.v), u_max_));
+    if (uniform01(events_) < accept) {
+      const std::size_t before = p_.size();
+      weighted_collide(p_, g_, i, j, unit_vector(events_), alpha, kappa, t_);
+      tree_.set(i, g_[i]);
+      tree_.set(j, g_[j]);
+      for (std::size_t k = before; k < p_.size(); ++k) tree_.set(k, g_[k]);
+      if (!maxwell) {
+        adapt_majorant(p_[i].v), adapt_majorant(p_[j].v);
+        for (std::size_t k = before; k < p_.size(); ++k) adapt_majorant(p_[k].v);
+      }
+      ++counts_.collisions;
+      if (p_.size() > c_.weights.max_particles) {
+        kick_all_to(t_);  // a group is merged at one time
+        reduce_particles(p_, g_, static_cast<std::size_t>(kReduceTo * c_.weights.max_particles),
+                         c_.weights.reduction, reduce_);
+        rebuild_tree();
+        if (!maxwell)
+          for (const auto& q : p_) adapt_majorant(q.v);
+        ++reductions_;
+      }
+    } else {
+      ++counts_.fictitious;
+    }
+    if ((++events & kProgressMask) == 0 && progress_)
+      progress_->store(t_ / c_.t_end, std::memory_order_relaxed);
+  }
+  kick_all_to(s);
+  t_ = s;
+  if (progress_) progress_->store(t_ / c_.t_end, std::memory_order_relaxed);
+  return true;
+}
+
+// ---- Checkpoints ----
+
+namespace {
+void write_engine(H5Writer& out, const std::string& path, const Engine& e) {
+  const auto& st = e.state();
+  out.write(path, std::vector<std::uint64_t>{st[0], st[1], st[2], st[3], e.draws()}, {5});
+}
+Engine read_engine(const H5Reader& in, const std::string& path) {
+  const auto v = in.read_uint64(path);
+  if (v.size() != 5) throw std::runtime_error(in.path() + ": malformed stream state " + path);
+  return Engine({v[0], v[1], v[2], v[3]}, v[4]);
+}
+}  // namespace
+
+void WeightedEnsemble::save(H5Writer& out, const std::string& g) const {
+  const std::size_t n = p_.size();
+  std::vector<double> particles(5 * n);
+  for (std::size_t i = 0; i < n; ++i) {
+    particles[5 * i] = p_[i].v.x;
+    particles[5 * i + 1] = p_[i].v.y;
+    particles[5 * i + 2] = p_[i].v.z;
+    particles[5 * i + 3] = p_[i].t;
+    particles[5 * i + 4] = g_[i];
+  }
+  out.write(g + "/weighted_particles", particles, {n, 5});
+  out.write(g + "/scalars", std::vector<double>{t_, v0_.x, v0_.y, v0_.z, u_max_}, {5});
+  write_engine(out, g + "/events_stream", events_);
+  write_engine(out, g + "/pairs_stream", pairs_);
+  write_engine(out, g + "/sweep_stream", sweep_);
+  write_engine(out, g + "/reduce_stream", reduce_);
+  out.write(g + "/counters",
+            std::vector<std::uint64_t>{counts_.collisions, counts_.fictitious, counts_.kicks,
+                                       reductions_},
+            {4});
+}
+
+WeightedEnsemble::WeightedEnsemble(const DsmcConfig& config, const H5Reader& in,
+                                   const std::string& g, ProgressSlot* progress)
+    : c_(config),
+      adapt_factor2_(config.majorant_update == MajorantUpdate::kStrict ? 4.0 : 1.0),
+      heated_(config.thermostat == Thermostat::kWhiteNoise && config.beta > 0.0),
+      events_(read_engine(in, g + "/events_stream")),
+      pairs_(read_engine(in, g + "/pairs_stream")),
+      sweep_(read_engine(in, g + "/sweep_stream")),
+      reduce_(read_engine(in, g + "/reduce_stream")),
+      progress_(progress) {
+  const auto particles = in.read_double(g + "/weighted_particles");
+  const auto scalars = in.read_double(g + "/scalars");
+  const auto counters = in.read_uint64(g + "/counters");
+  const std::size_t n = particles.size() / 5;
+  if (particles.size() % 5 || n < 2 || n > config.weights.max_particles || scalars.size() != 5 ||
+      counters.size() != 4)
+    throw std::runtime_error(in.path() + ": malformed weighted ensemble state " + g);
+  p_.resize(n);
+  g_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    p_[i].v = {particles[5 * i], particles[5 * i + 1], particles[5 * i + 2]};
+    p_[i].t = particles[5 * i + 3];
+    g_[i] = particles[5 * i + 4];
+    if (!(g_[i] > 0.0))
+      throw std::runtime_error(in.path() + ": malformed weighted ensemble state " + g);
+  }
+  t_ = scalars[0];
+  v0_ = {scalars[1], scalars[2], scalars[3]};
+  u_max_ = scalars[4];
+  counts_ = {counters[0], counters[1], counters[2]};
+  reductions_ = counters[3];
+  rebuild_tree();
+}
+
+// ---- Observers ----
+
+Observation measure_weighted(std::span<const Particle> p, std::span<const double> g,
+                             std::span<double> moments) {
+  if (moments.size() > static_cast<std::size_t>(kMaxMoments))
+    throw std::logic_error("measure_weighted: more than kMaxMoments speed moments");
+  const std::size_t P = moments.size();
+  double rho = 0.0;
+  Vec3 m;
+  for (std::size_t i = 0; i < p.size(); ++i) rho += g[i], m += g[i] * p[i].v;
+  const Vec3 V = (1.0 / rho) * m;
+  double cc[6] = {0, 0, 0, 0, 0, 0};
+  double flux[3] = {0, 0, 0};
+  double c4 = 0.0;
+  double c2p[kMaxMoments] = {};
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const Vec3 c = p[i].v - V;
+    const double w = g[i], c2 = norm2(c);
+    cc[0] += w * c.x * c.x;
+    cc[1] += w * c.y * c.y;
+    cc[2] += w * c.z * c.z;
+    cc[3] += w * c.x * c.y;
+    cc[4] += w * c.x * c.z;
+    cc[5] += w * c.y * c.z;
+    flux[0] += w * c.x * c2;
+    flux[1] += w * c.y * c2;
+    flux[2] += w * c.z * c2;
+    c4 += w * c2 * c2;
+    double power = 1.0;
+    for (std::size_t k = 0; k < P; ++k) {
+      power *= c2;
+      c2p[k] += w * power;
+    }
+  }
+  // Integrals of the measure sum g delta_v (rho = 1 to round-off), as for constant weights.
+  for (std::size_t k = 0; k < P; ++k) moments[k] = c2p[k];
+  Observation o{};
+  o[0] = rho;
+  o[1] = V.x;
+  o[2] = V.y;
+  o[3] = V.z;
+  double* Pm = &o[5];
+  Pm[0] = cc[0];
+  Pm[4] = cc[1];
+  Pm[8] = cc[2];
+  Pm[1] = Pm[3] = cc[3];
+  Pm[2] = Pm[6] = cc[4];
+  Pm[5] = Pm[7] = cc[5];
+  const double T = (Pm[0] + Pm[4] + Pm[8]) / (3.0 * rho);
+  o[4] = T;
+  for (int a = 0; a < 3; ++a) o[14 + a] = 0.5 * flux[a];
+  o[17] = c4 - 15.0 * T * T;
+  o[18] = crit(T, Pm, &o[14], o[17]);
+  o[19] = T + norm2(V) / 3.0;
+  return o;
+}
+
+void radial_histogram_weighted(std::span<const Particle> p, std::span<const double> g,
+                               const HistogramSpec& spec, double* weight, std::uint64_t* count) {
+  const std::uint64_t K = spec.shells;
+  const double scale = static_cast<double>(K) / spec.radius;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double k = std::floor(norm(p[i].v) * scale);
+    const std::uint64_t s = k < static_cast<double>(K) ? static_cast<std::uint64_t>(k) : K;
+    weight[s] += g[i];
+    ++count[s];
+  }
+}
+
+}  // namespace granboltz

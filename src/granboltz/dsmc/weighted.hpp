@@ -1,0 +1,120 @@
+#pragma once
+// The stochastic weighted particle method (SWPM; Rjasanow & Wagner, J. Comput. Phys. 124 (1996)
+// 243, and their book, Springer 2005) for the heated inelastic Boltzmann equation, with the
+// no-splitting time scheme of GRW05 §4 (per-particle kick times). Particles carry weights g_i
+// (sum 1 = the density); the constant-weight engine (ensemble.hpp) is left untouched.
+#include <atomic>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "granboltz/dsmc/config.hpp"
+#include "granboltz/dsmc/ensemble.hpp"
+#include "granboltz/dsmc/observables.hpp"
+#include "granboltz/dsmc/particles.hpp"
+#include "granboltz/random/rng.hpp"
+
+namespace granboltz {
+
+/// A complete binary sum tree over weights: the sum of the first k leaves by descent, an update
+/// in O(log n). Internal nodes are recomputed from their children (never incremented), so the
+/// sums do not drift however many updates there are.
+class SumTree {
+ public:
+  void resize(std::size_t capacity);
+  void set(std::size_t i, double g);
+  double total() const { return node_.size() > 1 ? node_[1] : 0.0; }
+  /// The leaf k with prefix(k) <= x < prefix(k + 1), for 0 <= x < total(); never a leaf of
+  /// weight 0.
+  std::size_t find(double x) const;
+
+ private:
+  std::size_t leaves_ = 0;
+  std::vector<double> node_;  // node 1 the root, leaves at [leaves_, 2 leaves_)
+};
+
+/// The conserved moments of a weighted set of particles, about the origin: mass sum g,
+/// momentum sum g v, energy sum g |v|^2 (for the tests and the reduction's checks).
+struct WeightedMoments {
+  double mass = 0.0;
+  Vec3 momentum;
+  double energy = 0.0;
+};
+WeightedMoments weighted_moments(std::span<const Particle> p, std::span<const double> g);
+
+/// The central heat flux sum g (v - V) |v - V|^2 of a weighted set, V its mean velocity.
+Vec3 weighted_heat_flux(std::span<const Particle> p, std::span<const double> g);
+
+/// One weighted collision (GRW05 eq. 4 map with direction e): with gamma = min(g_a, g_b)/(1+kappa)
+/// each partner keeps weight g - gamma at its velocity and two new particles of weight gamma sit
+/// at the post-collision velocities. A partner whose weight reaches 0 is replaced by its new
+/// particle (its slot is reused), otherwise the new particle is appended. Returns the number of
+/// particles appended (0, 1 or 2). Conserves mass and momentum; the energy changes by
+/// gamma * energy_change(v_a, v_b, e, alpha) (exactly 0 for alpha = 1), all to round-off.
+int weighted_collide(Particles& p, std::vector<double>& g, std::size_t a, std::size_t b, Vec3 e,
+                     double alpha, double kappa, double t);
+
+/// Replaces the group `members` (at least 3 particles) by two particles that keep its mass,
+/// momentum and energy, and for kHeatFlux also its central heat flux, placed in the first two
+/// member slots; the other members get weight 0 (the caller compacts). `e` is the direction
+/// used when the heat flux is not kept or vanishes.
+void merge_group(Particles& p, std::vector<double>& g, std::span<const std::uint32_t> members,
+                 Reduction reduction, Vec3 e);
+
+/// Reduces the system to at most `target` particles by merging crowded groups: the particles are
+/// binned on a cubic grid of width h sqrt(T) about the bulk velocity (h = 1/2, doubled until
+/// enough particles can be merged) and the most crowded cells (at least 3 particles) are merged
+/// first, so that sparse cells, the light tail particles among them, survive. Removes the
+/// zero-weight slots. Deterministic given the particles and the engine.
+void reduce_particles(Particles& p, std::vector<double>& g, std::size_t target,
+                      Reduction reduction, Engine& eng);
+
+class WeightedEnsemble {
+ public:
+  /// The initial Maxwellian with n = dsmc.particles particles of weight 1/n.
+  WeightedEnsemble(const DsmcConfig& config, std::uint64_t seed, std::uint64_t ensemble,
+                   ProgressSlot* progress = nullptr);
+  /// Restores an ensemble saved by save().
+  WeightedEnsemble(const DsmcConfig& config, const H5Reader& in, const std::string& group,
+                   ProgressSlot* progress = nullptr);
+
+  /// As DsmcEnsemble::advance_to: on return every particle is kicked up to s.
+  bool advance_to(double s, const std::atomic<bool>* pause = nullptr);
+  void save(H5Writer& out, const std::string& group) const;
+
+  const Particles& particles() const { return p_; }
+  const std::vector<double>& weights() const { return g_; }
+  double time() const { return t_; }
+  double u_max() const { return u_max_; }
+  const EventCounts& counts() const { return counts_; }
+  std::uint64_t reductions() const { return reductions_; }
+
+ private:
+  void rebuild_tree();
+  void adapt_majorant(const Vec3& v);
+  void kick_all_to(double s);
+
+  const DsmcConfig& c_;
+  Particles p_;
+  std::vector<double> g_;
+  SumTree tree_;
+  double t_ = 0.0;
+  Vec3 v0_;
+  double u_max_ = 0.0;
+  double adapt_factor2_;
+  bool heated_;
+  Engine events_, pairs_, sweep_, reduce_;
+  EventCounts counts_;
+  std::uint64_t reductions_ = 0;
+  ProgressSlot* progress_;
+};
+
+/// Weighted observers: as measure() and radial_histogram() with the empirical measure
+/// sum_j g_j delta_{v_j}; o[0] is the density sum g (1 to round-off). The histogram adds the
+/// weights per shell to `weight` and the particle numbers per shell to `count`.
+Observation measure_weighted(std::span<const Particle> p, std::span<const double> g,
+                             std::span<double> moments = {});
+void radial_histogram_weighted(std::span<const Particle> p, std::span<const double> g,
+                               const HistogramSpec& spec, double* weight, std::uint64_t* count);
+
+}  // namespace granboltz
