@@ -2,6 +2,7 @@
 // The particle system of GRW05 §4: velocities in R^3 with the time of their last kick.
 #include <sys/mman.h>
 
+#include <cstdint>
 #include <cstdlib>
 #include <new>
 #include <vector>
@@ -29,6 +30,7 @@ struct HugePageAllocator {
   HugePageAllocator(const HugePageAllocator<U>&) {}
 
   T* allocate(std::size_t n) {
+    if (n > std::size_t(PTRDIFF_MAX) / sizeof(T)) throw std::bad_array_new_length();
     std::size_t bytes = n * sizeof(T);
     if (bytes < kThreshold)
       return static_cast<T*>(::operator new(bytes, std::align_val_t(alignof(T))));

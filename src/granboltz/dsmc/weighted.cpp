@@ -328,7 +328,7 @@ bool WeightedEnsemble::advance_to(double s, const std::atomic<bool>* pause) {
       ++counts_.collisions;
       if (p_.size() > c_.weights.max_particles) {
         kick_all_to(t_);  // a group is merged at one time
-        reduce_particles(p_, g_, static_cast<std::size_t>(kReduceTo * c_.weights.max_particles),
+        reduce_particles(p_, g_, static_cast<std::size_t>(kReduceTo * static_cast<double>(c_.weights.max_particles)),
                          c_.weights.reduction, reduce_);
         rebuild_tree();
         if (!maxwell)
