@@ -155,8 +155,10 @@ def a2_verdict(rows, thermostat, kernel, alphas=None):
             "within the tolerance plus the CI (|Δ| ≤ tol + ci)")
     where = ", ".join(f"{r['alpha']:g}: {r['a2']:+.4f} ± {r['ci']:.4f} vs {r['theory']:+.4f}" for r in mine)
     head = "agrees " if not bad else f"differs at α = {', '.join(f'{a:g}' for a in bad)}; "
-    skip = (f"; not judged at α = {', '.join(f'{r['alpha']:g}' for r in skipped)} ({skipped[0]['theory_kind'].split('; ')[-1]})"
-            if skipped else "")
+    skip = ""
+    if skipped:
+        listed = ", ".join(f"{r['alpha']:g}" for r in skipped)
+        skip = f"; not judged at α = {listed} ({skipped[0]['theory_kind'].split('; ')[-1]})"
     return not bad, f"{head}{crit} (α {where}){skip}"
 
 
