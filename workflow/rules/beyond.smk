@@ -140,7 +140,7 @@ rule beyond_a2:
 
 rule beyond_tail:
     input:
-        run=beyond_runs("gaussian", "hard_spheres", TAIL["alpha"], A2["ensembles"], A2["particles"])[0],
+        run=beyond_runs("gaussian", "hard_spheres", TAIL["alpha"], TAIL["ensembles"], A2["particles"])[0],
     output:
         csv=report("results/tables/beyond_hcs_tail.csv", caption="../report/beyond.rst", category="Beyond the papers"),
         png=report("figures/beyond_hcs_tail.png", caption="../report/beyond.rst", category="Beyond the papers"),

@@ -44,6 +44,6 @@ try:
     good, text = tail_verdict(far)
 except ValueError:
     far, good, text = None, False, f"no window measures b to ±{p.max_ci}"
-short = ("consistent with b = 1" if good else "b = 1 not reached") + (f" (b = {far['value']:.2f} ± {far['ci']:.2f})" if far else "")
+short = ("agrees: consistent with b = 1" if good else "check: b = 1 not reached where the data end") + (f" (b = {far['value']:.2f} ± {far['ci']:.2f})" if far else "")
 write_json(figure_summary(text, short, ok=good, far=far), snakemake.output.summary)
 print(text, np.round(res["b"], 2), file=sys.stderr)

@@ -168,6 +168,6 @@ def tail_verdict(far, b_expected=1.0):
     ok = abs(far["value"] - b_expected) <= far["ci"]
     text = f"b = {far['value']:.2f} ± {far['ci']:.2f} at |v| = {far['r']:.1f}"
     if ok:
-        return True, f"consistent with b = {b_expected:g}: {text}"
+        return True, f"agrees: consistent with b = {b_expected:g}: {text}"
     side = "still above" if far["value"] > b_expected else "below"
     return False, f"{side} b = {b_expected:g} where the data end: {text}"
