@@ -28,6 +28,7 @@ ITEM_RULES = [
     *[f"rw05_{x}" for x in ("table1", "table2", "table3_euler", "table4_strang", "table5_nosplit", "table6",
                             "effort", "steady_replicas", "fig1", "fig2", "fig3", "fig4")],
     *[f"tv06_{x}" for x in ("fig1", "fig2", "fig3", "fig4", "fig5", "fig7", "fig8", "dsmc")],
+    "beyond_haff", "beyond_a2", "beyond_tail",
 ]
 
 
@@ -65,7 +66,10 @@ def test_dry_run_plans_every_job(profile):
     assert counts.pop("grw05_merge", 0) == sum(k for ex, k in grw05.items() if shards[ex] > 1)
     assert counts.pop("rw05_run") == counts.pop("rw05_run_config") == rw05
     assert counts.pop("tv06_run") == counts.pop("tv06_run_config") == expected_tv06_runs(config)
-    assert counts.pop("table_tex") == 16  # 11 tables and the window table; TV06 Figs. 3, 4, 7 and §4
+    b = config["beyond"]  # issue 14: 2 Haff runs, 2 thermostats x 2 kernels x alphas, the tail run if its own
+    beyond = 2 + 4 * len(b["a2"]["alphas"]) + (b["tail"]["ensembles"] != b["a2"]["ensembles"])
+    assert counts.pop("beyond_run") == counts.pop("beyond_run_config") == beyond
+    assert counts.pop("table_tex") == 19  # 11 tables and the window table; TV06 Figs. 3, 4, 7 and §4; 3 beyond
     assert counts == {"all": 1, "report": 1, **{rule: 1 for rule in ITEM_RULES}}
 
 
