@@ -3,6 +3,7 @@ per paper, notes, provenance), each returning blocks, and build_document joining
 comparison of each table with the published numbers is chosen by the item's `compare` key
 (COMPARE); the summary shows each short verdict with a mark (verdict_kind)."""
 
+from .beyond import BEYOND, beyond_section, compare_beyond_a2, compare_beyond_haff, compare_beyond_tail
 from .convergence import compare_convergence, compare_rw05_table1, compare_rw05_table2
 from .numbers import VERDICT_MARKS, VERDICT_MEANING, marked, num
 from .render import anchor
@@ -22,7 +23,8 @@ COMPARE = {"convergence": compare_convergence, "rw05_table1": compare_rw05_table
            "rw05_table2": compare_rw05_table2, "steady": compare_steady, "effort": compare_effort,
            "tails": compare_tails, "ex7_moments": compare_ex7_moments, "replicas": compare_replicas,
            "tv06_temperature": compare_tv06_temperature,
-           "tv06_needle": compare_tv06_needle, "tv06_dsmc": compare_tv06_dsmc, None: plain_table}
+           "tv06_needle": compare_tv06_needle, "tv06_dsmc": compare_tv06_dsmc, None: plain_table,
+           "beyond_haff": compare_beyond_haff, "beyond_a2": compare_beyond_a2, "beyond_tail": compare_beyond_tail}
 
 # ----------------------------------------------------------------------------- the document
 PAPERS = {
@@ -159,8 +161,12 @@ def build_document(items, data, config, machine, profile):
     """The whole report as blocks. data: tables {csv path: rows}, published {path: rows},
     summaries {json path: dict}, bench {tsv path: seconds}, runs {h5 path: attrs}."""
     body, summary = [], []
-    for paper in dict.fromkeys(["GRW05", "RW05", "TV06"] + [it["paper"] for it in items]):
+    for paper in dict.fromkeys(["GRW05", "RW05", "TV06"] + [it["paper"] for it in items if it["paper"] != BEYOND]):
         blocks, rows = paper_section(paper, items, data)
+        body += blocks
+        summary += rows
+    if any(it["paper"] == BEYOND for it in items):  # issue 14: after the papers
+        blocks, rows = beyond_section(items, data, item_blocks)
         body += blocks
         summary += rows
     return (title_section(profile) + summary_section(summary) + body + notes_section()

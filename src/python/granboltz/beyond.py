@@ -1,0 +1,173 @@
+"""Beyond the papers (issue 14): free cooling (Haff's law) and the homogeneous cooling state (HCS)
+with the Gaussian thermostat, beside the white-noise steady state.  Theory, table rows and the
+computed verdicts of the report section "Beyond the papers".
+
+Units: density 1, kernel B = C |u|^lambda, collision term gamma Q (docs/config.md, Thermostats).
+Sonine coefficient a2 = <c^4>/15 - 1 of the velocities scaled to T = 1, read from a run as the
+steady average of `fourth_moment` (M4 - 15 T^2 per sample) over 15 <T>^2.
+"""
+
+import math
+
+import numpy as np
+
+from .maxwell_hierarchy import hcs_a2, hcs_scaled_moments, steady_a2_formula
+
+Z = 3.2  # lambda_p of every confidence half-width of the project (GRW05 §5.1)
+
+
+# ----------------------------------------------------------------------------- theory
+def vne_hcs_a2(alpha):
+    """First-Sonine a2 of the hard-sphere HCS (van Noije & Ernst 1998, d = 3):
+    16(1 - alpha)(1 - 2 alpha^2)/(81 - 17 alpha + 30 alpha^2 (1 - alpha))."""
+    return 16 * (1 - alpha) * (1 - 2 * alpha**2) / (81 - 17 * alpha + 30 * alpha**2 * (1 - alpha))
+
+
+def vne_heated_a2(alpha):
+    """First-Sonine a2 of the white-noise steady state of hard spheres (van Noije & Ernst 1998):
+    16(1 - alpha)(1 - 2 alpha^2)/(241 - 177 alpha + 30 alpha^2 (1 - alpha))."""
+    return 16 * (1 - alpha) * (1 - 2 * alpha**2) / (241 - 177 * alpha + 30 * alpha**2 * (1 - alpha))
+
+
+def theory_a2(thermostat, kernel_lambda, alpha):
+    """(value, name) of the reference a2: exact for Maxwell molecules (lambda = 0; HCS from the
+    moment hierarchy, steady white noise in closed form), first Sonine for hard spheres."""
+    if kernel_lambda == 0:
+        if thermostat == "gaussian":
+            try:  # the HCS of Maxwell molecules has a power-law tail: <c^8> is infinite for alpha <= 0.4
+                hcs_scaled_moments(4, alpha)
+            except ValueError:
+                return float(hcs_a2(alpha)), "exact (moment hierarchy); <c^8> infinite: CI not valid"
+            return float(hcs_a2(alpha)), "exact (moment hierarchy)"
+        return float(steady_a2_formula(alpha)), "exact (moment hierarchy)"
+    if thermostat == "gaussian":
+        return vne_hcs_a2(alpha), "van Noije-Ernst, first Sonine"
+    return vne_heated_a2(alpha), "van Noije-Ernst, first Sonine"
+
+
+def haff_temperature(t, T0, alpha, gamma, C, kernel_lambda, n=None):
+    """Expected centred temperature of free cooling: Maxwell molecules T0 e^{-gamma pi C (1 -
+    alpha^2) t} (GRW05 eq. 16, beta = 0; exact), hard spheres Haff's law T0/(1 + t/t0)^2 with
+    t0 = 2/(K sqrt(T0)), K = (16/3) sqrt(pi) gamma C (1 - alpha^2)(1 + 3 a2/16), a2 of the HCS
+    in first Sonine.  With n, T0 -> T0 (1 - 1/n): the centred estimator's bias (exact for Maxwell)."""
+    t = np.asarray(t, dtype=float)
+    T0 = T0 * (1 - 1 / n) if n else T0
+    if kernel_lambda == 0:
+        return T0 * np.exp(-gamma * math.pi * C * (1 - alpha**2) * t)
+    K = 16 / 3 * math.sqrt(math.pi) * gamma * C * (1 - alpha**2) * (1 + 3 * vne_hcs_a2(alpha) / 16)
+    return T0 / (1 + t * K * math.sqrt(T0) / 2) ** 2
+
+
+# ----------------------------------------------------------------------------- rows
+def haff_rows(runs):
+    """One row per (kernel, observation time) of free-cooling runs (read_run objects): T with its
+    half-width, the theory, ratio and sigma-distance z = |T - theory|/(ci/Z)."""
+    rows = []
+    for run in runs:
+        d = run.config["dsmc"]
+        n, lam = int(d["particles"]), float(d["kernel"]["lambda"])
+        T, ci = run.temperature.mean, run.temperature.ci
+        th = haff_temperature(run.time, d["initial"]["temperature"], d["alpha"], d["gamma"], d["kernel"]["C"], lam, n)
+        for t, x, c, e in zip(run.time, T, ci, th):
+            rows.append({"kernel": "maxwell" if lam == 0 else "hard_spheres", "alpha": d["alpha"], "n": n,
+                         "N": int(run.config["ensembles"]), "t": float(t), "T": float(x), "ci": float(c),
+                         "T_theory": float(e), "ratio": float(x / e), "z": float(abs(x - e) / (c / Z)) if c > 0 else 0.0})
+    return rows
+
+
+def a2_rows(runs, rel_tol, abs_floor, published=()):
+    """One row per steady run (read_run objects with steady averages): thermostat, kernel, alpha,
+    a2 and its half-width, the reference value and its kind, the difference, sigma-distance,
+    relative difference, the tolerance and whether it agrees (a2_agrees); `published` rows
+    (alpha, a2, source) of the hard-sphere HCS join by alpha."""
+    pub = {round(float(p["alpha"]), 6): p for p in published}
+    rows = []
+    for run in runs:
+        d = run.config["dsmc"]
+        lam, th_name = float(d["kernel"]["lambda"]), d.get("thermostat", "white_noise")
+        T, fm = run.steady["temperature"], run.steady["fourth_moment"]
+        a2 = float(fm.mean / (15 * T.mean**2))
+        ci = float(math.hypot(fm.ci / (15 * T.mean**2), 2 * abs(a2) * T.ci / T.mean))
+        ref, kind = theory_a2(th_name, lam, float(d["alpha"]))
+        p = pub.get(round(float(d["alpha"]), 6)) if (th_name == "gaussian" and lam == 1) else None
+        rows.append({"thermostat": th_name, "kernel": "maxwell" if lam == 0 else "hard_spheres",
+                     "alpha": float(d["alpha"]), "n": int(d["particles"]), "N": int(run.config["ensembles"]),
+                     "a2": a2, "ci": ci, "theory": ref, "theory_kind": kind, "diff": a2 - ref,
+                     "z": abs(a2 - ref) / (ci / Z) if ci > 0 else math.inf,
+                     "rel_diff": (a2 - ref) / ref if ref else math.nan,
+                     "published": float(p["a2"]) if p else None, "published_source": p["source"] if p else ""})
+        rows[-1]["tol"] = 0.0 if kind.startswith("exact") else max(rel_tol * abs(ref), abs_floor)
+        agrees = a2_agrees(rows[-1], rel_tol, abs_floor)
+        rows[-1]["agrees"] = None if agrees is None else int(agrees)
+    return sorted(rows, key=lambda r: (r["thermostat"], r["kernel"], r["alpha"]))
+
+
+def steady_histogram(run, steady_from):
+    """Shell data (granboltz.local_exponent format) of the histogram averaged over the observations
+    t_m > steady_from: frac the mean, se = sqrt(sum se_m^2)/M (observations taken as independent)."""
+    h = run.histograms["histogram"]
+    rows = run.time > steady_from + 1e-12
+    se = h["ci"][rows, :-1] / Z
+    return {"edges": h["edges"], "frac": h["mean"][rows, :-1].mean(axis=0),
+            "se": np.sqrt((se**2).sum(axis=0)) / rows.sum(), "counts": h["counts"][rows, :-1].sum(axis=0),
+            "N": int(run.config["ensembles"]), "n": int(run.config["dsmc"]["particles"])}
+
+
+# ----------------------------------------------------------------------------- verdicts
+def haff_verdict(rows, kernel):
+    """(ok, text): every observation of `kernel` within the statistics (z <= Z), the decades of T."""
+    mine = [r for r in rows if r["kernel"] == kernel]
+    worst = max(r["z"] for r in mine)
+    decades = math.log10(mine[0]["T"] / mine[-1]["T"])
+    ok = worst <= Z
+    word = "agrees within the statistics" if ok else "differs"
+    return ok, f"{word} over {decades:.1f} decades of T (max {worst:.1f}σ, {len(mine)} times)"
+
+
+def a2_agrees(row, rel_tol, abs_floor):
+    """Whether a2 agrees with its reference.  Exact references (Maxwell): within the statistics
+    (z <= Z).  First-Sonine references: |a2 - theory| <= ci + tol with tol = rel_tol |theory|, or
+    abs_floor where |theory| < abs_floor/rel_tol (near the zero of a2, e.g. alpha = 0.8 for white
+    noise, a relative criterion is ill-posed; abs_floor reflects the first Sonine's accuracy).
+    None where the reference says the CI is not valid (Maxwell HCS with infinite <c^8>)."""
+    if "not valid" in row["theory_kind"]:
+        return None  # the variance of the a2 estimator is infinite: no statistical verdict
+    if row["theory_kind"].startswith("exact"):
+        return row["z"] <= Z
+    tol = max(rel_tol * abs(row["theory"]), abs_floor)
+    return abs(row["diff"]) <= row["ci"] + tol
+
+
+def a2_verdict(rows, thermostat, kernel, alphas=None):
+    """(ok, text) over the rows (a2_rows, with their `tol` and `agrees`) of one thermostat and
+    kernel (those at `alphas` only, if given)."""
+    mine = [r for r in rows if r["thermostat"] == thermostat and r["kernel"] == kernel
+            and (alphas is None or any(abs(r["alpha"] - a) < 1e-9 for a in alphas))]
+    if not mine:
+        return False, "no runs"
+    skipped = [r for r in mine if r["agrees"] is None]
+    mine = [r for r in mine if r["agrees"] is not None]
+    if not mine:
+        return True, "no statistical verdict (CI not valid at every alpha)"
+    bad = [r["alpha"] for r in mine if not r["agrees"]]
+    exact = mine[0]["theory_kind"].startswith("exact")
+    crit = (f"within the statistics (max {max(r['z'] for r in mine):.1f}σ)" if exact else
+            "within the tolerance plus the CI (|Δ| ≤ tol + ci)")
+    where = ", ".join(f"{r['alpha']:g}: {r['a2']:+.4f} ± {r['ci']:.4f} vs {r['theory']:+.4f}" for r in mine)
+    head = "agrees " if not bad else f"differs at α = {', '.join(f'{a:g}' for a in bad)}; "
+    skip = ""
+    if skipped:
+        listed = ", ".join(f"{r['alpha']:g}" for r in skipped)
+        skip = f"; not judged at α = {listed} ({skipped[0]['theory_kind'].split('; ')[-1]})"
+    return not bad, f"{head}{crit} (α {where}){skip}"
+
+
+def tail_verdict(far, b_expected=1.0):
+    """(ok, text) for the outermost well-measured local exponent far = {r, value, ci}: consistent
+    with b_expected when |b - b_expected| <= ci; otherwise says how far it is and on which side."""
+    ok = abs(far["value"] - b_expected) <= far["ci"]
+    text = f"b = {far['value']:.2f} ± {far['ci']:.2f} at |v| = {far['r']:.1f}"
+    if ok:
+        return True, f"agrees: consistent with b = {b_expected:g}: {text}"
+    side = "still above" if far["value"] > b_expected else "below"
+    return False, f"{side} b = {b_expected:g} where the data end: {text}"

@@ -1,0 +1,174 @@
+"""Beyond the papers (issue 14): free cooling (Haff's law), the homogeneous cooling state under
+the Gaussian thermostat and the white-noise steady state, against theory (docs/config.md,
+Thermostats).
+
+Raw runs:  results/beyond/<thermostat>/<kernel>/alpha=<alpha>/N=<ensembles>/n=<particles>/run.h5
+           with <thermostat> = none (Haff), gaussian or white_noise, <kernel> = maxwell (lambda = 0)
+           or hard_spheres (lambda = 1)
+Items:     Haff's law (table + figure), a2(alpha) of both thermostats (table + figure), the HCS tail
+           (local exponent; table + figure), in the report section "Beyond the papers".
+"""
+
+BEYOND = config["beyond"]
+BEYOND_PAPER = "Beyond the papers"
+BEYOND_LAMBDA = {"maxwell": 0, "hard_spheres": 1}
+
+
+def check_beyond(b):
+    """Cross-key checks of config beyond that the schema cannot express; ValueError naming the key."""
+    for name, timing in [("haff.maxwell", b["haff"]["maxwell"]), ("haff.hard_spheres", b["haff"]["hard_spheres"]),
+                         ("a2", b["a2"])]:
+        if not _whole(timing["t_end"], timing["observe_every"]):
+            raise ValueError(f"beyond.{name}: t_end must be a whole multiple of observe_every")
+    if not b["a2"]["steady_from"] < b["a2"]["t_end"]:
+        raise ValueError("beyond.a2: need steady_from < t_end")
+    if not set(b["a2"]["key_alphas"]) <= set(b["a2"]["alphas"]):
+        raise ValueError("beyond.a2.key_alphas: must be among beyond.a2.alphas")
+    if b["tail"]["alpha"] not in b["a2"]["alphas"]:
+        raise ValueError(f"beyond.tail.alpha = {b['tail']['alpha']}: must be one of beyond.a2.alphas")
+
+
+check_beyond(BEYOND)
+
+
+def beyond_runs(thermostat, kernels, alphas, N, n):
+    """The HDF5 outputs of one thermostat for every kernel and alpha."""
+    return expand(rules.beyond_run.output.h5, thermostat=thermostat, kernel=kernels, alpha=alphas, N=N, n=n)
+
+
+def beyond_run_config(wildcards):
+    """Run config of results/beyond/{thermostat}/{kernel}/alpha={alpha}/N={N}/n={n}: free cooling
+    with the haff timing of the kernel; gaussian and white_noise steady runs with the a2 timing
+    (the hard-sphere Gaussian runs also keep the histogram of the tail)."""
+    physics = {"alpha": float(wildcards.alpha), "beta": 0.0, "gamma": BEYOND["gamma"],
+               "kernel": {"lambda": BEYOND_LAMBDA[wildcards.kernel], "C": BEYOND["C"]},
+               "temperature0": BEYOND["temperature0"]}
+    extra = {"thermostat": wildcards.thermostat}
+    if wildcards.thermostat != "white_noise" and wildcards.kernel == "hard_spheres":
+        extra["majorant"] = "pairwise"  # exact without kicks; the global bound would reject most pairs as T falls
+    if wildcards.thermostat == "none":
+        timing = BEYOND["haff"][wildcards.kernel]
+    else:
+        timing = BEYOND["a2"]
+        extra["steady_from"] = timing["steady_from"]
+        if wildcards.thermostat == "white_noise":
+            physics["beta"] = timing["beta"]
+        if wildcards.thermostat == "gaussian" and wildcards.kernel == "hard_spheres":
+            extra["histogram"] = {"shells": BEYOND["tail"]["shells"], "radius": BEYOND["tail"]["radius"]}
+    label = f"beyond/{wildcards.thermostat}/{wildcards.kernel}/alpha={wildcards.alpha}/n={wildcards.n}"
+    return dsmc_run_config(label, physics, wildcards.N, wildcards.n, timing["t_end"], timing["observe_every"], **extra)
+
+
+localrules:
+    beyond_run_config,
+
+
+rule beyond_run_config:
+    output:
+        yaml="results/beyond/{thermostat}/{kernel}/alpha={alpha}/N={N}/n={n}/run.yaml",
+    log:
+        "logs/beyond/{thermostat}/{kernel}/alpha={alpha}/N={N}/n={n}/run_config.log",
+    wildcard_constraints:
+        thermostat="none|gaussian|white_noise",
+        kernel="maxwell|hard_spheres",
+        alpha="[0-9.]+",
+    params:
+        run=beyond_run_config,
+    script:
+        "../scripts/write_run_config.py"
+
+
+rule beyond_run:
+    input:
+        config=rules.beyond_run_config.output.yaml,
+        granboltz=config["granboltz"],
+    output:
+        h5="results/beyond/{thermostat}/{kernel}/alpha={alpha}/N={N}/n={n}/run.h5",
+    log:
+        "logs/beyond/{thermostat}/{kernel}/alpha={alpha}/N={N}/n={n}/run.log",
+    benchmark:
+        "benchmarks/beyond/{thermostat}/{kernel}/alpha={alpha}/N={N}/n={n}/run.tsv"
+    wildcard_constraints:
+        thermostat="none|gaussian|white_noise",
+        kernel="maxwell|hard_spheres",
+        alpha="[0-9.]+",
+    threads: run_threads
+    resources:
+        mem_mb=run_mem_mb,
+    shell:
+        "{input.granboltz} run {input.config} -o {output.h5} --threads {threads} > {log} 2>&1"
+
+
+HAFF, A2, TAIL = BEYOND["haff"], BEYOND["a2"], BEYOND["tail"]
+
+
+rule beyond_haff:
+    input:
+        runs=beyond_runs("none", ["maxwell", "hard_spheres"], HAFF["alpha"], HAFF["ensembles"], HAFF["particles"]),
+    output:
+        csv=report("results/tables/beyond_haff.csv", caption="../report/beyond.rst", category="Beyond the papers"),
+        png=report("figures/beyond_haff.png", caption="../report/beyond.rst", category="Beyond the papers"),
+        pdf="figures/beyond_haff.pdf",
+        summary="results/figures/beyond_haff.json",
+    log:
+        "logs/figures/beyond_haff.log",
+    benchmark:
+        "benchmarks/figures/beyond_haff.tsv"
+    script:
+        "../scripts/beyond_haff.py"
+
+
+rule beyond_a2:
+    input:
+        runs=beyond_runs(["gaussian", "white_noise"], ["maxwell", "hard_spheres"], A2["alphas"], A2["ensembles"], A2["particles"]),
+    output:
+        csv=report("results/tables/beyond_a2.csv", caption="../report/beyond.rst", category="Beyond the papers"),
+        png=report("figures/beyond_a2.png", caption="../report/beyond.rst", category="Beyond the papers"),
+        pdf="figures/beyond_a2.pdf",
+        summary="results/figures/beyond_a2.json",
+    log:
+        "logs/figures/beyond_a2.log",
+    benchmark:
+        "benchmarks/figures/beyond_a2.tsv"
+    params:
+        rel_tol=A2["rel_tol"],
+        abs_floor=A2["abs_floor"],
+        key_alphas=A2["key_alphas"],
+    script:
+        "../scripts/beyond_a2.py"
+
+
+rule beyond_tail:
+    input:
+        run=beyond_runs("gaussian", "hard_spheres", TAIL["alpha"], TAIL["ensembles"], A2["particles"])[0],
+    output:
+        csv=report("results/tables/beyond_hcs_tail.csv", caption="../report/beyond.rst", category="Beyond the papers"),
+        png=report("figures/beyond_hcs_tail.png", caption="../report/beyond.rst", category="Beyond the papers"),
+        pdf="figures/beyond_hcs_tail.pdf",
+        summary="results/figures/beyond_hcs_tail.json",
+    log:
+        "logs/figures/beyond_hcs_tail.log",
+    benchmark:
+        "benchmarks/figures/beyond_hcs_tail.tsv"
+    params:
+        steady_from=A2["steady_from"],
+        min_count=TAIL["min_count"],
+        half_width=TAIL["half_width"],
+        max_ci=TAIL["max_ci"],
+    script:
+        "../scripts/beyond_tail.py"
+
+
+for _rule, _name, _what in (
+    (rules.beyond_haff, "Haff's law", "free cooling: Maxwell molecules T0 e^{−γπC(1−α²)t} exactly; hard spheres "
+                                      "T0/(1 + t/t0)² with t0 from the cooling rate with the first-Sonine a2"),
+    (rules.beyond_a2, "a2(α), both thermostats", "Sonine coefficient a2 of the HCS (Gaussian thermostat) and of the "
+                                                 "white-noise steady state: hard spheres against van Noije–Ernst, "
+                                                 "Maxwell molecules against the exact moment hierarchy"),
+    (rules.beyond_tail, "HCS tail", "local exponent b(r) of the hard-sphere HCS distribution against the "
+                                    "exponential tail b = 1")):
+    _runs = _rule.input.runs if hasattr(_rule.input, "runs") else [_rule.input.run]
+    report_item(BEYOND_PAPER, _name, _rule, "figure", _rule.output.png, _what, runs=_runs,
+                run_rule=rules.beyond_run, summary=_rule.output.summary)
+    report_item(BEYOND_PAPER, _name + " (table)", _rule, "table", _rule.output.csv, _what,
+                compare="beyond_" + _rule.rule.name.split("_", 1)[1])
