@@ -238,10 +238,17 @@ def colour_signature(cell, seen):
     return frozenset(sig)
 
 
-@pytest.mark.xfail(strict=True, reason="issue 9 item 4: text columns are right-aligned like numbers "
-                   "and verdicts carry no mark or colour until the report's styling is fixed")
-def test_tables_align_text_left_numbers_right_and_verdicts_stand_out(rendered):
+# The report generator has the styling fix (issue 9 item 4); the committed paper/ report was
+# written before it and is regenerated with the next paper-profile run. Strict: once paper/ is
+# republished this xfail turns into a failure and must be removed.
+PAPER_REPORT_PREDATES_STYLING = True
+
+
+def test_tables_align_text_left_numbers_right_and_verdicts_stand_out(rendered, request):
     report, seen = rendered
+    if PAPER_REPORT_PREDATES_STYLING and report.parent.name == "paper":
+        request.applymarker(pytest.mark.xfail(strict=True, reason="paper/ was published before the "
+                                              "styling fix of issue 9 item 4"))
     wrong = []
     for table in seen["tables"]:
         for j, kind in enumerate(column_kinds(table)):
@@ -262,11 +269,15 @@ def test_tables_align_text_left_numbers_right_and_verdicts_stand_out(rendered):
     assert verdicts, "no verdict says agrees / differs / questioned"
     plain = [v["text"][:50] for v in verdicts if not has_mark(v) or not colour_signature(v, seen)]
     assert not plain, f"{report}: verdicts without a mark and a colour: {plain}"
-    by_word = {}
+    # Grouped by the mark in front (a questioned verdict may also say "agrees" or "differs"):
+    # different marks must not share a colour.
+    by_mark = {}
     for v in verdicts:
-        by_word.setdefault(VERDICT_WORD.search(v["text"]).group(1), set()).add(colour_signature(v, seen))
-    if "agrees" in by_word and "differs" in by_word:
-        assert not by_word["agrees"] & by_word["differs"], "agrees and differs share a colour"
+        by_mark.setdefault(v["text"].lstrip()[:1], set()).add(colour_signature(v, seen))
+    marks = sorted(by_mark)
+    for i, a in enumerate(marks):
+        for b in marks[i + 1:]:
+            assert not by_mark[a] & by_mark[b], f"verdicts marked {a} and {b} share a colour"
 
 
 # ----------------------------------------------------------------------------- named files

@@ -8,10 +8,16 @@ import re
 
 from .numbers import VERDICT_MARKS
 
-# A numeric cell: numbers (with an optional σ, % or s.e. unit) joined by ±, ;, ',' or …, e.g.
-# "0.0850 ± 0.0012", "+3.3σ; -0.2σ", "0.9998, 1.0000"; the dash of a missing number counts too.
-_NUMBER = r"[-+−]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?(?:σ|%| s\.e\.)?(?: \([-+]?\d+\.?\d*σ\))?"
-_NUMERIC_CELL = re.compile(rf"{_NUMBER}(?:\s*(?:±|;|,|…)\s*{_NUMBER})*|–|nan|inf")
+# A numeric cell has digits and no words: values, ± intervals, σ distances, percentages, ranges
+# ("30-49", "[3.4, 3.9]", "0.99 → 8e-4") and lists; the units σ and s.e. and the exponent e of
+# "3.05e-4" are not words. "–", nan and inf (a missing number) count as numeric.
+def _is_numeric_cell(text):
+    if text in ("–", "nan", "inf"):
+        return True
+    bare = re.sub(r"(?<=\d)e(?=[+\-−]?\d)", "", text.replace("s.e.", ""))
+    return any(c.isdigit() for c in bare) and not any(c.isalpha() and c != "σ" for c in bare)
+
+
 _MARK_KIND = {mark: kind for kind, mark in VERDICT_MARKS.items()}
 
 
@@ -21,7 +27,7 @@ def numeric_columns(rows, width):
     out = []
     for i in range(width):
         cells = [str(r[i]).strip() for r in rows if i < len(r) and str(r[i]).strip() not in ("", "–")]
-        out.append(bool(cells) and all(_NUMERIC_CELL.fullmatch(c) for c in cells))
+        out.append(bool(cells) and all(_is_numeric_cell(c) for c in cells))
     return out
 
 # ----------------------------------------------------------------------------- rendering
