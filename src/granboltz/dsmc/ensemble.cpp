@@ -6,6 +6,7 @@
 #include "granboltz/physics/collision.hpp"
 #include "granboltz/physics/heating.hpp"
 #include "granboltz/random/samplers.hpp"
+#include "granboltz/io/engine_io.hpp"
 
 namespace granboltz {
 
@@ -497,18 +498,6 @@ bool DsmcEnsemble::advance_to(double s, const std::atomic<bool>* pause) {
 }
 
 // ---- Checkpoints ----
-
-namespace {
-void write_engine(H5Writer& out, const std::string& path, const Engine& e) {
-  const auto& st = e.state();
-  out.write(path, std::vector<std::uint64_t>{st[0], st[1], st[2], st[3], e.draws()}, {5});
-}
-Engine read_engine(const H5Reader& in, const std::string& path) {
-  const auto v = in.read_uint64(path);
-  if (v.size() != 5) throw std::runtime_error(in.path() + ": malformed stream state " + path);
-  return Engine({v[0], v[1], v[2], v[3]}, v[4]);
-}
-}  // namespace
 
 void DsmcEnsemble::save(H5Writer& out, const std::string& g) const {
   const std::size_t n = p_.size();

@@ -1,0 +1,24 @@
+#pragma once
+// A random stream's exact state in a checkpoint: the four xoshiro256++ words and the draw count.
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "granboltz/io/hdf5_io.hpp"
+#include "granboltz/random/rng.hpp"
+
+namespace granboltz {
+
+inline void write_engine(H5Writer& out, const std::string& path, const Engine& e) {
+  const auto& st = e.state();
+  out.write(path, std::vector<std::uint64_t>{st[0], st[1], st[2], st[3], e.draws()}, {5});
+}
+
+inline Engine read_engine(const H5Reader& in, const std::string& path) {
+  const auto v = in.read_uint64(path);
+  if (v.size() != 5) throw std::runtime_error(in.path() + ": malformed stream state " + path);
+  return Engine({v[0], v[1], v[2], v[3]}, v[4]);
+}
+
+}  // namespace granboltz
