@@ -32,7 +32,27 @@ TEST(CommandLine, VersionAndValidateWork) {
   TempDir dir;
   const auto r = run_granboltz("validate " + dir.write("c.yaml", kHardSpheres));
   EXPECT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("majorant_update: paper"), std::string::npos) << r.output;
+  // The defaults: the majorant chosen automatically, and the true bound for its update.
+  EXPECT_NE(r.output.find("majorant: auto"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("majorant_update: strict"), std::string::npos) << r.output;
+}
+
+TEST(CommandLine, ProvenanceNamesTheMajorantThatAutoChose) {
+  // Kicks between the events (no-splitting, heated) leave only the global majorant; a splitting
+  // scheme of a small hard-sphere gas takes the pairwise one, with the same bits as asking for it.
+  TempDir dir;
+  const std::string cfg = dir.write("c.yaml", kHardSpheres);
+  const std::string nosplit = dir.file("n.h5"), strang = dir.file("s.h5"), pw = dir.file("p.h5");
+  const std::string split = " --set dsmc.scheme=strang --set dsmc.steps=8";
+  ASSERT_EQ(run_granboltz("run " + cfg + " -q -o " + nosplit).exit_code, 0);
+  ASSERT_EQ(run_granboltz("run " + cfg + " -q -o " + strang + split).exit_code, 0);
+  ASSERT_EQ(run_granboltz("run " + cfg + " -q -o " + pw + split + " --set dsmc.majorant=pairwise")
+                .exit_code,
+            0);
+  EXPECT_EQ(H5Reader(nosplit).attr_string("/provenance", "majorant"), "global");
+  EXPECT_EQ(H5Reader(strang).attr_string("/provenance", "majorant"), "pairwise");
+  EXPECT_EQ(H5Reader(strang).read_double("/temperature/mean"),
+            H5Reader(pw).read_double("/temperature/mean"));
 }
 
 TEST(CommandLine, OneAndTwoThreadsGiveIdenticalOutputForEveryScheme) {

@@ -205,8 +205,14 @@ TEST(Checkpoint, CheckpointOfAnotherConfigIsRefused) {
 
 TEST(Checkpoint, EnsemblesKilledMidwayResumeFromTheirSavedState) {
   // Two long ensembles: the checkpoints hold them in progress (particles and streams), not only
-  // completed ensembles.
-  for (const char* scheme : {"nosplit", "strang"}) {
+  // completed ensembles. Unheated, `majorant: auto` takes the pairwise majorant, whose weights
+  // and their refresh countdown are part of the state.
+  struct Case {
+    const char *scheme, *alpha, *beta, *t_end;
+  };
+  for (const auto& [scheme, alpha, beta, t_end] :
+       {Case{"nosplit", "0.5", "1", "4"}, Case{"strang", "0.5", "1", "4"},
+        Case{"nosplit", "1", "0", "40"}}) {
     TempDir dir;
     const std::string cfg = dir.write("c.yaml", std::string(R"(model: dsmc
 seed: 31
@@ -216,11 +222,11 @@ dsmc:
   particles: 60000
   scheme: )") + scheme + R"(
   steps: 256
-  alpha: 0.5
-  beta: 1
+  alpha: )" + alpha + R"(
+  beta: )" + beta + R"(
   gamma: 4
   kernel: {lambda: 1, C: 0.0795774715459477}
-  t_end: 4
+  t_end: )" + t_end + R"(
   observe_every: 0.5
   histogram: {shells: 8, radius: 8}
 )");

@@ -53,8 +53,9 @@ struct DsmcConfig {
   double t_end = 0.0;
   double observe_every = 0.0;  ///< observations at m * observe_every, m = 0..t_end/observe_every
   HistogramSpec histogram;
-  MajorantKind majorant = MajorantKind::kGlobal;
-  MajorantUpdate majorant_update = MajorantUpdate::kPaper;
+  MajorantKind majorant = MajorantKind::kGlobal;  ///< the majorant used (auto resolved)
+  bool majorant_auto = false;  ///< dsmc.majorant: auto (the default) chose `majorant`
+  MajorantUpdate majorant_update = MajorantUpdate::kStrict;
   int moments = 4;          ///< P: observe <|v - V|^{2p}> for p = 1..P (0 <= P <= kMaxMoments)
   bool steady = false;      ///< time averages over the observations with t > steady_from
   double steady_from = 0.0;
@@ -69,5 +70,12 @@ void emit_dsmc(YAML::Emitter& out, const DsmcConfig& c);
 const char* scheme_name(Scheme s);
 const char* thermostat_name(Thermostat t);
 const char* reduction_name(Reduction r);
+const char* majorant_name(MajorantKind m);
+
+/// dsmc.majorant: auto picks pairwise up to this many particles (where the pairwise majorant is
+/// exact and faster; measured in `make bench`), global beyond.
+inline constexpr std::uint64_t kAutoPairwiseMaxParticles = 300'000;
+/// The majorant `auto` chooses for a config (everything but `majorant` already read).
+MajorantKind auto_majorant(const DsmcConfig& c);
 
 }  // namespace granboltz

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "granboltz/hot.hpp"
 #include "granboltz/physics/collision.hpp"
 #include "granboltz/physics/heating.hpp"
 #include "granboltz/random/samplers.hpp"
@@ -84,13 +85,13 @@ void DsmcEnsemble::set_majorant(double u_max) {
     inv_rate_ = 1.0 / c_.kernel.majorant_rate(static_cast<double>(p_.size()), u_max_);
 }
 
-void DsmcEnsemble::adapt_majorant(const Particle& a) {
+GRANBOLTZ_HOT void DsmcEnsemble::adapt_majorant(const Particle& a) {
   // RW05 eq. (21) with the paper's factor 1, or the strict bound 2|v - V| >= |v - w|.
   const double r2 = adapt_factor2_ * norm2(a.v - v0_);
   if (r2 > u_max2_) set_majorant(std::sqrt(r2));
 }
 
-inline void DsmcEnsemble::adapt_majorant_scaled(const Particle& a) {
+GRANBOLTZ_HOT void DsmcEnsemble::adapt_majorant_scaled(const Particle& a) {
   // Gaussian thermostat: the same rule for the true velocity V + s (w - V).
   const double r2 = adapt_factor2_ * s2_ * norm2(a.v - v0_);
   if (r2 > u_max2_) set_majorant(std::sqrt(r2));
@@ -146,7 +147,7 @@ inline void DsmcEnsemble::after_gaussian_collision(double delta) {
 }
 
 template <int kLambda>
-inline bool DsmcEnsemble::accept(double u2, Engine& events) {
+GRANBOLTZ_HOT bool DsmcEnsemble::accept(double u2, Engine& events) {
   // Accept with probability (|u|/U_max)^lambda, 1 when |u| >= U_max (RW05 eq. 19), comparing
   // squares to avoid square roots.
   const double r = uniform01(events);
@@ -163,7 +164,7 @@ inline bool DsmcEnsemble::accept(double u2, Engine& events) {
 // ---- Pairwise majorant: |u|^lambda <= (|v_i - V| + |v_j - V|)^lambda <= w_i + w_j ----
 
 template <int kLambda>
-inline double DsmcEnsemble::weight(const Vec3& v) const {
+GRANBOLTZ_HOT double DsmcEnsemble::weight(const Vec3& v) const {
   const double r2 = norm2(v - v0_);
   if constexpr (kLambda == kHardSpheres) return std::sqrt(r2);
   else if constexpr (kLambda == kHalf) return std::sqrt(std::sqrt(r2));
@@ -171,22 +172,45 @@ inline double DsmcEnsemble::weight(const Vec3& v) const {
 }
 
 template <int kLambda>
-inline void DsmcEnsemble::reweigh(std::uint32_t i) {
+GRANBOLTZ_HOT void DsmcEnsemble::reweigh(std::uint32_t i) {
   const double w = weight<kLambda>(p_[i].v);
   w_sum_ += w - w_[i];
   w_[i] = w;
   if (w > w_max_) w_max_ = w;
 }
 
+template <int kLambda>
+GRANBOLTZ_HOT void DsmcEnsemble::reweigh_pair(std::uint32_t i, std::uint32_t j) {
+  reweigh<kLambda>(i);
+  reweigh<kLambda>(j);
+  // w_max only grows between sweeps, and the acceptance of a candidate is w_i / w_max: an exact
+  // sweep every n pair updates (O(1) per event) keeps it the current maximum, and the sum exact.
+  if (--refresh_countdown_ == 0) reweigh_all<kLambda>();
+  else inv_rate_ = 1.0 / (pairwise_rate_factor_ * w_sum_);
+}
+
+template <int kLambda>
 void DsmcEnsemble::reweigh_all() {
   // An exact sum at every sweep keeps the running sum from drifting.
-  w_sum_ = w_max_ = 0.0;
+  refresh_countdown_ = p_.size();
+  double sum = 0.0, max = 0.0;
   for (std::size_t i = 0; i < p_.size(); ++i) {
-    w_[i] = std::pow(norm2(p_[i].v - v0_), 0.5 * c_.kernel.lambda);
-    w_sum_ += w_[i];
-    w_max_ = std::max(w_max_, w_[i]);
+    const double w = weight<kLambda>(p_[i].v);
+    w_[i] = w;
+    sum += w;
+    max = std::max(max, w);
   }
+  w_sum_ = sum;
+  w_max_ = max;
   set_pairwise_rate();
+}
+
+void DsmcEnsemble::reweigh_all() {
+  switch (lambda_case(c_.kernel.lambda)) {
+    case kHardSpheres: return reweigh_all<kHardSpheres>();
+    case kHalf: return reweigh_all<kHalf>();
+    default: return reweigh_all<kGeneral>();
+  }
 }
 
 void DsmcEnsemble::set_pairwise_rate() {
@@ -197,7 +221,7 @@ void DsmcEnsemble::set_pairwise_rate() {
 }
 
 template <int kLambda>
-inline bool DsmcEnsemble::accept_pairwise(double u2, double bound, Engine& events) {
+GRANBOLTZ_HOT bool DsmcEnsemble::accept_pairwise(double u2, double bound, Engine& events) {
   // Accept with probability |u|^lambda / (w_i + w_j), the weights being those the waiting time
   // was drawn with; 1 when a kick has carried |u|^lambda beyond them (the truncated kernel).
   const double r = uniform01(events) * bound;
@@ -212,45 +236,37 @@ inline bool DsmcEnsemble::accept_pairwise(double u2, double bound, Engine& event
 
 // ---- Candidate pairs ----
 
-DsmcEnsemble::Pair DsmcEnsemble::draw_pair(Engine& pairs) {
+GRANBOLTZ_HOT DsmcEnsemble::Pair DsmcEnsemble::draw_pair(Engine& pairs) {
   const auto n = static_cast<std::uint32_t>(p_.size());
-  Pair pair{0, 0, 0.0};
-  if (pairwise_) {
-    // A candidate i with the uniform that keeps it with probability w_i / w_max.
-    uniform_index_and_fraction(pairs, n, pair.i, pair.u);
-  } else {
-    // i uniform on {0..n-1}, j uniform on the others (GRW05 steps 2.3-2.4).
-    uniform_index_pair(pairs, n, n - 1, pair.i, pair.j);
-    if (pair.j >= pair.i) ++pair.j;
-  }
+  Pair pair{0, 0};
+  // i uniform on {0..n-1}, j uniform on the others (GRW05 steps 2.3-2.4). For the pairwise
+  // majorant i is a candidate, kept with probability w_i / w_max by select_pair().
+  uniform_index_pair(pairs, n, n - 1, pair.i, pair.j);
+  if (pair.j >= pair.i) ++pair.j;
   return pair;
 }
 
-inline DsmcEnsemble::Pair DsmcEnsemble::next_pair(Engine& pairs) {
+GRANBOLTZ_HOT DsmcEnsemble::Pair DsmcEnsemble::next_pair(Engine& pairs) {
   const Pair pair = ring_[head_];
   const Pair ahead = draw_pair(pairs);
   ring_[head_] = ahead;
   head_ = (head_ + 1) % kLookahead;
   __builtin_prefetch(&p_[ahead.i], 1);
+  __builtin_prefetch(&p_[ahead.j], 1);
   if (pairwise_) __builtin_prefetch(&w_[ahead.i]);
-  else __builtin_prefetch(&p_[ahead.j], 1);
   return pair;
 }
 
 template <int kLambda, bool kPairwise>
-inline DsmcEnsemble::Pair DsmcEnsemble::select_pair(Engine& pairs, Engine& events) {
+GRANBOLTZ_HOT DsmcEnsemble::Pair DsmcEnsemble::select_pair(Engine& pairs, Engine& events) {
   if constexpr (!kPairwise) {
     return next_pair(pairs);
   } else {
     // The ordered pair (i, j) with probability proportional to w_i + w_j: i by weight (rejection
     // against w_max), j uniform among the others; the order does not matter for a collision.
     for (;;) {
-      Pair pair = next_pair(pairs);
-      if (pair.u * w_max_ < w_[pair.i]) {
-        pair.j = static_cast<std::uint32_t>(uniform_index(events, p_.size() - 1));
-        if (pair.j >= pair.i) ++pair.j;
-        return pair;
-      }
+      const Pair pair = next_pair(pairs);
+      if (uniform01(events) * w_max_ < w_[pair.i]) return pair;
     }
   }
 }
@@ -308,11 +324,7 @@ bool DsmcEnsemble::run_nosplit(double s, const std::atomic<bool>* pause) {
       ++counts.fictitious;
     }
     if constexpr (kPairwise) {
-      if (real || kHeated) {
-        reweigh<kLambda>(pair.i);
-        reweigh<kLambda>(pair.j);
-        inv_rate_ = 1.0 / (pairwise_rate_factor_ * w_sum_);
-      }
+      if (real || kHeated) reweigh_pair<kLambda>(pair.i, pair.j);
     } else if constexpr (kLambda != kMaxwell) {
       if (real) {  // step 2.10
         if constexpr (kGaussian) {
@@ -383,9 +395,7 @@ void DsmcEnsemble::collide_during(double h) {
         after_gaussian_collision<kLambda, kPairwise>(norm2(a.v - v0_) + norm2(b.v - v0_) - before);
       ++counts.collisions;
       if constexpr (kPairwise) {
-        reweigh<kLambda>(pair.i);
-        reweigh<kLambda>(pair.j);
-        inv_rate_ = 1.0 / (pairwise_rate_factor_ * w_sum_);
+        reweigh_pair<kLambda>(pair.i, pair.j);
       } else if constexpr (kGaussian && kLambda != kMaxwell) {
         adapt_majorant_scaled(a);
         adapt_majorant_scaled(b);
@@ -515,17 +525,15 @@ void DsmcEnsemble::save(H5Writer& out, const std::string& g) const {
   write_engine(out, g + "/pairs_stream", pairs_);
   write_engine(out, g + "/sweep_stream", sweep_);
   std::vector<std::uint64_t> ring_index;
-  std::vector<double> ring_u;
   for (const Pair& pair : ring_) {
     ring_index.push_back(pair.i);
     ring_index.push_back(pair.j);
-    ring_u.push_back(pair.u);
   }
   out.write(g + "/ring_index", ring_index, {kLookahead, 2});
-  out.write(g + "/ring_u", ring_u, {kLookahead});
   out.write(g + "/counters",
-            std::vector<std::uint64_t>{head_, counts_.collisions, counts_.fictitious, counts_.kicks},
-            {4});
+            std::vector<std::uint64_t>{head_, counts_.collisions, counts_.fictitious, counts_.kicks,
+                                       refresh_countdown_},
+            {5});
   if (pairwise_) out.write(g + "/weights", w_, {n});
   if (gaussian_) out.write(g + "/thermostat", std::vector<double>{energy_, target_}, {2});
 }
@@ -546,10 +554,9 @@ DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, const H5Reader& in, const s
   const auto particles = in.read_double(g + "/particles");
   const auto scalars = in.read_double(g + "/scalars");
   const auto ring_index = in.read_uint64(g + "/ring_index");
-  const auto ring_u = in.read_double(g + "/ring_u");
   const auto counters = in.read_uint64(g + "/counters");
   if (particles.size() != 4 * n || scalars.size() != 7 || ring_index.size() != 2 * kLookahead ||
-      ring_u.size() != kLookahead || counters.size() != 4 || counters[0] >= kLookahead)
+      counters.size() != 5 || counters[0] >= kLookahead)
     throw std::runtime_error(in.path() + ": malformed ensemble state " + g);
   for (std::size_t i = 0; i < n; ++i) {
     p_[i].v = {particles[4 * i], particles[4 * i + 1], particles[4 * i + 2]};
@@ -560,7 +567,7 @@ DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, const H5Reader& in, const s
   set_majorant(scalars[4]);
   for (unsigned k = 0; k < kLookahead; ++k)
     ring_[k] = {static_cast<std::uint32_t>(ring_index[2 * k]),
-                static_cast<std::uint32_t>(ring_index[2 * k + 1]), ring_u[k]};
+                static_cast<std::uint32_t>(ring_index[2 * k + 1])};
   head_ = static_cast<unsigned>(counters[0]);
   counts_ = {counters[1], counters[2], counters[3]};
   if (pairwise_) {
@@ -568,6 +575,7 @@ DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, const H5Reader& in, const s
     if (w_.size() != n) throw std::runtime_error(in.path() + ": malformed weights in " + g);
     w_sum_ = scalars[5];
     w_max_ = scalars[6];
+    refresh_countdown_ = counters[4];
     set_pairwise_rate();
   }
   if (gaussian_) {  // the lazy scale: the particles above are the stored velocities w

@@ -57,8 +57,7 @@ class DsmcEnsemble {
   // the stream is consumed in order, so the look-ahead cannot change any result.
   static constexpr unsigned kLookahead = 16;
   struct Pair {
-    std::uint32_t i, j;  // global majorant: both partners; pairwise: j is drawn after i is kept
-    double u;            // pairwise majorant: the uniform that keeps i with probability w_i/w_max
+    std::uint32_t i, j;  // the partners (pairwise majorant: i is a candidate, kept by weight)
   };
 
   // The event loops, specialised by what happens between and after collisions.
@@ -86,7 +85,11 @@ class DsmcEnsemble {
   double weight(const Vec3& v) const;  // pairwise majorant weight |v - V|^lambda
   template <int kLambda>
   void reweigh(std::uint32_t i);       // refresh w_i, sum and maximum after v_i changed
+  template <int kLambda>
+  void reweigh_pair(std::uint32_t i, std::uint32_t j);  // both partners, then the rate
+  template <int kLambda>
   void reweigh_all();
+  void reweigh_all();  // for the runtime lambda
   void set_pairwise_rate();
   void adapt_majorant(const Particle& a);
   void adapt_majorant_scaled(const Particle& a);  // gaussian: for the true velocity of a
@@ -119,6 +122,7 @@ class DsmcEnsemble {
   bool pairwise_;
   std::vector<double> w_;
   double w_sum_ = 0.0, w_max_ = 0.0;
+  std::uint64_t refresh_countdown_ = 0;  // weight updates until the next exact sweep
   double pairwise_rate_factor_ = 0.0;  // pi_hat / W
   EventCounts counts_;
   ProgressSlot* progress_;

@@ -23,6 +23,8 @@ void write_output(H5Writer& out, const Config& config, const Record& record,
   out.attr("/", "git_sha", std::string(kGitSha));
   out.group("/provenance");
   for (const auto& [key, value] : provenance) out.attr("/provenance", key, value);
+  if (config.model == Model::kDsmc)  // the majorant used, also when `auto` chose it
+    out.attr("/provenance", "majorant", std::string(majorant_name(config.dsmc.majorant)));
 }
 
 Config config_of_file(const H5Reader& in) {

@@ -2,6 +2,7 @@
 // The white-noise heating of GRW05 eq. (23): Brownian motion of a velocity over a time s.
 #include <cmath>
 
+#include "granboltz/hot.hpp"
 #include "granboltz/random/samplers.hpp"
 #include "granboltz/physics/vec3.hpp"
 
@@ -15,7 +16,7 @@ inline Vec3 white_noise_kick(Vec3 v, double beta, double s, E& eng) {
 
 /// Kicks two velocities, over the times sa and sb, with six normals from (usually) three draws.
 template <class E>
-inline void white_noise_kick2(Vec3& a, double sa, Vec3& b, double sb, double beta, E& eng) {
+GRANBOLTZ_HOT void white_noise_kick2(Vec3& a, double sa, Vec3& b, double sb, double beta, E& eng) {
   double n[6];
   normal_pair(eng, n[0], n[1]);
   normal_pair(eng, n[2], n[3]);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "granboltz/hot.hpp"
 #include "granboltz/stats/int128.hpp"
 #include "granboltz/physics/vec3.hpp"
 
@@ -150,7 +151,7 @@ inline double normal_from32(std::uint32_t bits, E& eng) {
 
 /// Two independent standard normal variates from (usually) one 64-bit draw.
 template <class E>
-inline void normal_pair(E& eng, double& a, double& b) {
+GRANBOLTZ_HOT void normal_pair(E& eng, double& a, double& b) {
   const std::uint64_t bits = eng();
   a = detail::normal_from32(static_cast<std::uint32_t>(bits >> 32), eng);
   b = detail::normal_from32(static_cast<std::uint32_t>(bits), eng);
@@ -158,7 +159,7 @@ inline void normal_pair(E& eng, double& a, double& b) {
 
 /// Exponential variate with rate 1 (ziggurat).
 template <class E>
-inline double exponential(E& eng) {
+GRANBOLTZ_HOT double exponential(E& eng) {
   const auto& z = detail::kExponentialZiggurat;
   double offset = 0.0;
   for (;;) {
@@ -189,7 +190,7 @@ inline Vec3 normal3(E& eng) {
 /// Uniform direction on S^2 without trigonometry (Marsaglia, Ann. Math. Stat. 43, 1972). Each
 /// trial takes both coordinates, with 32 random bits each, from one 64-bit draw.
 template <class E>
-inline Vec3 unit_vector(E& eng) {
+GRANBOLTZ_HOT Vec3 unit_vector(E& eng) {
   for (;;) {
     const std::uint64_t bits = eng();
     const double a = static_cast<double>(static_cast<std::int32_t>(bits >> 32)) * 0x1.0p-31 +
