@@ -6,7 +6,7 @@ BUILD ?= build
 JOBS ?= 2
 PROFILE ?= config/quick.yaml
 
-.PHONY: all deps deps-browser build python test test-cpp test-python test-sanitize test-slurm reproduce check-tables paper bench sanitize clean
+.PHONY: all deps deps-browser build python test test-cpp test-python test-sanitize test-slurm reproduce check-tables paper bench bench-counters bench-peer sanitize clean
 
 all: build
 
@@ -73,6 +73,18 @@ REPEAT ?= 5
 bench: build
 	$(BUILD)/bench/granboltz_bench --repeat $(REPEAT) --csv bench/results.csv
 	$(BUILD)/bench/granboltz_kernels --benchmark_repetitions=$(REPEAT) --benchmark_report_aggregates_only=true
+
+## make bench-counters: instructions, branch mispredictions and cache misses per event (cachegrind;
+## this machine exposes no hardware counters to perf)
+bench-counters: build
+	/usr/bin/python3 bench/counters.py $(BUILD)/bench/granboltz_bench
+
+## SPARTA=/path/to/spa_serial make bench-peer: the peer problem run by SPARTA (median of REPEAT),
+## then the peer table against those figures instead of the reference ones
+bench-peer: build
+	@test -n "$(SPARTA)" || { echo "make bench-peer: set SPARTA=/path/to/spa_serial"; exit 2; }
+	/usr/bin/python3 bench/sparta_peer.py $(SPARTA) --repeat $(REPEAT) --out bench/sparta.csv
+	$(BUILD)/bench/granboltz_bench --repeat $(REPEAT) --only peer_ --sparta bench/sparta.csv --csv bench/peer.csv
 
 ## make reproduce: every table and figure at reduced size (config/quick.yaml)
 reproduce: deps build python

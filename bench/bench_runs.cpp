@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -83,6 +84,20 @@ const std::vector<Case> kCases = {
     {"peer_pairwise_n1e6", "elastic hard spheres, n=10^6, pairwise majorant",
      peer("1e6", "1", "pairwise")},
 };
+
+// The peer problem against SPARTA (issue 12): SPARTA's serial NTC loop time per real collision
+// for elastic hard spheres in one periodic cell, measured side by side on one machine
+// (SPARTA master; the lower end of each measured range). `make bench-peer` replaces them with a
+// SPARTA build's own figures (--sparta FILE: lines "n,ns_per_real_collision").
+struct PeerRow {
+  double n;
+  const char *global, *pairwise;
+  double sparta_ns;
+};
+const PeerRow kPeerRows[] = {{1e4, "peer_elastic_hs_n1e4", "peer_pairwise_n1e4", 295},
+                             {1e5, "peer_elastic_hs_n1e5", "peer_pairwise_n1e5", 359},
+                             {1e6, "peer_elastic_hs_n1e6", "peer_pairwise_n1e6", 1160}};
+constexpr double kPeerGoal = 0.20;  // granboltz at most 1/5 of SPARTA's time
 
 struct Sample {
   double seconds = 0;
@@ -188,15 +203,50 @@ double threaded_seconds(const Case& c, unsigned threads) {
 
 }  // namespace
 
+// The peer table: ns per real collision of both majorants, the one `auto` picks, SPARTA's.
+void print_peer_table(const std::map<std::string, double>& ns_real, const std::string& sparta_csv,
+                      std::ofstream& csv) {
+  std::map<double, double> sparta;
+  for (const auto& row : kPeerRows) sparta[row.n] = row.sparta_ns;
+  std::string source = "reference figures of issue 12";
+  if (!sparta_csv.empty()) {
+    std::ifstream in(sparta_csv);
+    double n, ns;
+    char comma;
+    while (in >> n >> comma >> ns) sparta[n] = ns;
+    source = sparta_csv;
+  }
+  std::printf("\npeer problem (elastic hard spheres, one cell; ns per real collision; SPARTA: %s)\n",
+              source.c_str());
+  std::printf("%-8s %9s %9s %-9s %9s %9s %6s %s\n", "n", "global", "pairwise", "auto", "auto ns",
+              "SPARTA", "ratio", "goal <= 0.20");
+  for (const auto& row : kPeerRows) {
+    if (!ns_real.count(row.global) || !ns_real.count(row.pairwise)) continue;
+    Config cfg = parse_config("{}", "peer", {"model=dsmc", "seed=1", "dsmc.alpha=1", "dsmc.beta=0",
+                                              "dsmc.kernel.lambda=1", "dsmc.kernel.C=0.08", "dsmc.t_end=1",
+                                              "dsmc.particles=" + format_real(row.n)});
+    const bool pairwise = cfg.dsmc.majorant == MajorantKind::kPairwise;
+    const double chosen = ns_real.at(pairwise ? row.pairwise : row.global);
+    const double ratio = chosen / sparta[row.n];
+    std::printf("%-8.0e %9.1f %9.1f %-9s %9.1f %9.0f %6.3f %s\n", row.n, ns_real.at(row.global),
+                ns_real.at(row.pairwise), pairwise ? "pairwise" : "global", chosen, sparta[row.n],
+                ratio, ratio <= kPeerGoal ? "met" : "not met");
+    csv << "peer_auto_n" << format_real(row.n) << ",\"auto: " << (pairwise ? "pairwise" : "global")
+        << "; SPARTA " << sparta[row.n] << " ns (" << source << ")\",,,,,,,,,," << chosen
+        << ",," << ratio << ",\n";
+  }
+}
+
 int main(int argc, char** argv) {
   int repeat = 5;
-  std::string csv_path = "bench/results.csv", only;
+  std::string csv_path = "bench/results.csv", only, sparta_csv;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--repeat") && i + 1 < argc) repeat = std::atoi(argv[++i]);
     else if (!std::strcmp(argv[i], "--csv") && i + 1 < argc) csv_path = argv[++i];
     else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
+    else if (!std::strcmp(argv[i], "--sparta") && i + 1 < argc) sparta_csv = argv[++i];
     else {
-      std::fprintf(stderr, "usage: granboltz_bench [--repeat R] [--csv FILE] [--only NAME]\n");
+      std::fprintf(stderr, "usage: granboltz_bench [--repeat R] [--csv FILE] [--only NAME] [--sparta FILE]\n");
       return 2;
     }
   }
@@ -206,6 +256,7 @@ int main(int argc, char** argv) {
          "ratio_to_floor,peak_mb\n";
   std::printf("%-22s %11s %9s %9s %9s %9s %7s %9s\n", "config", "events", "Mevents/s", "ns/event",
               "ns/real", "floor ns", "ratio", "peak MB");
+  std::map<std::string, double> ns_real;
   for (const Case& c : kCases) {
     if (!only.empty() && std::string(c.name).find(only) == std::string::npos) continue;
     const Config cfg = config_of(c, {});
@@ -221,12 +272,14 @@ int main(int argc, char** argv) {
     const double ns = 1e9 * t / s.events, fns = 1e9 * f / s.events;
     std::printf("%-22s %11.0f %9.2f %9.1f %9.1f %9.1f %7.2f %9.0f\n", c.name, s.events,
                 s.events / t / 1e6, ns, 1e9 * t / s.real, fns, ns / fns, median(peaks));
+    ns_real[c.name] = 1e9 * t / s.real;
     csv << c.name << ",\"" << c.description << "\"," << repeat << "," << s.events << "," << s.real
         << "," << s.kicks << "," << s.draws / s.events << "," << t << "," << s.events / t << ","
         << ns << "," << 1e9 * t / s.real << "," << fns << "," << ns / fns << "," << median(peaks)
         << "\n";
     std::fflush(stdout);
   }
+  print_peer_table(ns_real, sparta_csv, csv);
   if (only.empty() || only == "threads") {
     std::vector<double> one, two;
     for (int r = 0; r < std::max(3, repeat); ++r) {
