@@ -9,7 +9,9 @@ below 30 % (granboltz.tail_swpm.resolved_depth), with log10(depth) per CPU minut
     bench/tail_depth.py [--granboltz build/granboltz] [--examples 7 8 9] [--csv out.csv]
                         [--constant n:N ...] [--swpm kappa:max_particles:n:N ...]
 
-Defaults: settings of about equal cost per example (a few CPU seconds each).
+Defaults: settings of about equal cost per example (2-3 CPU seconds each; measured on 2026-11-30:
+constant weights n = 1e5, N = 16 reach 4e-5 (Ex. 7), 6e-5 (8), 4e-5 (9) in 1.5-1.9 s; SWPM kappa =
+0.25, N_max = 2000, n = 1000, N = 16 reach 6e-2, 5e-2, 5e-2 in 3.1, 2.5, 1.8 s).
 """
 import argparse
 import os
@@ -27,8 +29,8 @@ sys.path.insert(0, str(ROOT / "src" / "python"))
 from granboltz.local_exponent import shells_from_h5  # noqa: E402
 from granboltz.tail_swpm import resolved_depth  # noqa: E402
 
-# GRW05 §5.3: lambda, t_end (steady state), histogram radius wide enough for the SWPM tail
-EXAMPLES = {7: (0.0, 2.5, 100.0), 8: (1.0, 0.25, 30.0), 9: (0.5, 0.5, 50.0)}
+# GRW05 §5.3: lambda, t_end (steady state), histogram radius R (128 shells, as the constant-weight runs)
+EXAMPLES = {7: (0.0, 2.5, 40.0), 8: (1.0, 0.25, 16.0), 9: (0.5, 0.5, 24.0)}
 
 
 def run_config(example, n, N, seed, weights=None):
@@ -61,8 +63,8 @@ def main():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--granboltz", default=str(ROOT / "build" / "granboltz"))
     p.add_argument("--examples", type=int, nargs="+", default=[7, 8, 9])
-    p.add_argument("--constant", nargs="*", default=["20000:16"], help="n:N of constant-weight runs")
-    p.add_argument("--swpm", nargs="*", default=["1:4000:2000:16"], help="kappa:max_particles:n:N")
+    p.add_argument("--constant", nargs="*", default=["100000:16"], help="n:N of constant-weight runs")
+    p.add_argument("--swpm", nargs="*", default=["0.25:2000:1000:16"], help="kappa:max_particles:n:N")
     p.add_argument("--reduction", default="energy")
     p.add_argument("--seed", type=int, default=20260101)
     p.add_argument("--csv")
