@@ -120,7 +120,11 @@ def swpm_verdict(s, b_tol=0.03, ci_max=0.03, a_rel=0.05):
     within a_rel of theory) and how far the run got."""
     db, da = s["b_swpm"] - s["theory_b"], s["a_swpm"] / s["a_theory"] - 1
     ok = abs(db) <= b_tol and s["b_swpm_ci"] <= ci_max and abs(da) <= a_rel
+    depth = (f"resolved to f/f(0) = {s['depth_swpm']:.1e} (constant weights {s['depth_constant']:.1e}; "
+             "goal 1e-30)")
+    if not np.isfinite(s["b_swpm"]):
+        return False, (f"differs from the goal (b within {b_tol:g} of {s['theory_b']:g}): {depth}, not below "
+                       "tails.local.tail_from, so no tail to fit b and a on")
     text = (f"b = {s['b_swpm']:.3f} ± {s['b_swpm_ci']:.3f} (theory {s['theory_b']:g}), "
-            f"a = {s['a_swpm']:.3f} ± {s['a_swpm_ci']:.3f} (theory {s['a_theory']:.3f}, {100 * da:+.0f} %), "
-            f"resolved to f/f(0) = {s['depth_swpm']:.1e} (constant weights {s['depth_constant']:.1e})")
-    return ok, ("goal reached: " if ok else "goal not reached: ") + text
+            f"a = {s['a_swpm']:.3f} ± {s['a_swpm_ci']:.3f} (theory {s['a_theory']:.3f}, {100 * da:+.0f} %), {depth}")
+    return ok, ("agrees with the goal: " if ok else "differs from the goal: ") + text
