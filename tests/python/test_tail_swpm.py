@@ -56,4 +56,4 @@ def test_summary_recovers_b_and_a_of_a_known_tail(example, b):
     assert summary["b_swpm"] == pytest.approx(b, abs=0.02) and summary["a_swpm"] == pytest.approx(a, rel=0.05)
     assert summary["depth_swpm"] == summary["depth_constant"] < 1e-8
     ok, text = swpm_verdict(summary)
-    assert text.startswith("goal reached" if ok else "goal not reached")
+    assert text.startswith("agrees with the goal" if ok else "differs from the goal")
