@@ -68,11 +68,13 @@ test-slurm: deps build
 	bash scripts/test-slurm.sh
 
 ## make bench: whole-run benchmarks (median of REPEAT runs, with the random-number floor) as a
-## table and bench/results.csv, then the kernel benchmarks (Google Benchmark)
+## table and bench/results.csv, then the kernel benchmarks (Google Benchmark), then the tail depth
+## f/f(0) per CPU time of constant weights and SWPM (issue 11; bench/tail_depth.csv)
 REPEAT ?= 5
 bench: build
 	$(BUILD)/bench/granboltz_bench --repeat $(REPEAT) --csv bench/results.csv
 	$(BUILD)/bench/granboltz_kernels --benchmark_repetitions=$(REPEAT) --benchmark_report_aggregates_only=true
+	$(PYTHON) bench/tail_depth.py --granboltz $(BUILD)/granboltz --csv bench/tail_depth.csv
 
 ## make bench-counters: instructions, branch mispredictions and cache misses per event (cachegrind;
 ## this machine exposes no hardware counters to perf)

@@ -287,6 +287,40 @@ TEST(WeightedEnsemble, MaxwellSteadyMomentsMatchTheExactHierarchy) {
   }
 }
 
+TEST(WeightedEnsemble, HardSphereSteadyTemperatureAndA2MatchConstantWeights) {
+  // Hard spheres, alpha = 1/2, beta = 1, gamma = 1, C1 = 1/(4 pi), from T0 = 1 to t = 3 (several
+  // relaxation times of T): SWPM with kappa = 1 and a cap that forces reductions against
+  // constant weights, same n, independent seeds. T and M_4 = <|v - V|^4> must agree within the
+  // confidence of a difference of two independent means, and so a2 = M_4/(15 T^2) - 1, whose
+  // half-width is bounded by (1 + a2)(dM_4/M_4 + 2 dT/T) whatever the correlation of T and M_4.
+  // The O(1/n_eff) bias of the weighted system (n_eff = 1/sum g^2 ~ 200) is far below that.
+  const std::uint64_t N = 40;
+  auto config = [&](const std::string& seed, bool swpm) {
+    std::vector<std::string> s = {"model=dsmc", "seed=" + seed, "ensembles=" + std::to_string(N),
+                                  "dsmc.particles=500", "dsmc.alpha=0.5", "dsmc.beta=1",
+                                  "dsmc.gamma=1", "dsmc.kernel.lambda=1",
+                                  "dsmc.kernel.C=" + format_real(1 / (4 * M_PI)), "dsmc.t_end=3",
+                                  "dsmc.observe_every=3", "dsmc.moments=2"};
+    if (swpm)
+      for (auto& x : swpm_sets("1", 1000)) s.push_back(x);
+    return parse_config("{}", "test", s);
+  };
+  const test::DsmcRun c(config("41", false)), w(config("42", true));
+  const double z = test::family_z(3);
+  const std::size_t m = c.times.size() - 1;
+  const MeanCi Tc = c.at(m, kTemperature), Tw = w.at(m, kTemperature);
+  const MeanCi Mc = c.moment(m, 2, 2), Mw = w.moment(m, 2, 2);
+  const double dT = z * std::sqrt((Tc.variance + Tw.variance) / static_cast<double>(N));
+  const double dM = z * std::sqrt((Mc.variance + Mw.variance) / static_cast<double>(N));
+  EXPECT_NEAR(Tw.mean, Tc.mean, dT) << "steady T";
+  EXPECT_NEAR(Mw.mean, Mc.mean, dM) << "steady M_4";
+  const double a2c = Mc.mean / (15 * Tc.mean * Tc.mean) - 1, a2w = Mw.mean / (15 * Tw.mean * Tw.mean) - 1;
+  EXPECT_NEAR(a2w, a2c, (1 + a2c) * (dM / Mc.mean + 2 * dT / Tc.mean)) << "steady a2";
+  double reductions = 0;
+  for (double x : w.record.column("/events/reductions")) reductions += x;
+  EXPECT_GT(reductions, static_cast<double>(N));  // the reduction was exercised
+}
+
 TEST(WeightedConfig, BadWeightsKeysGiveOneLineErrors) {
   const std::vector<std::string> base = {"model=dsmc", "seed=1", "dsmc.particles=10",
                                          "dsmc.alpha=1", "dsmc.beta=1", "dsmc.kernel.lambda=0",

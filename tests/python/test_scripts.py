@@ -193,9 +193,22 @@ def test_tail_exponent_script_recovers_b(run_script, tmp_path):
                    params={"tails": tails, "example": ex})
         assert _is_png(tmp_path / f"local{ex}.png", 5_000)
         local.append(names["summary"])
-    run_script("tail_exponents.py", input={**runs, "local": local}, output={"csv": str(out), "windows": str(windows)},
-               params={"tails": tails})
+    tails["swpm"] = {"kappa": 0.25, "max_particles": 2000, "particles": 1000, "ensembles": 8, "reduction": "energy",
+                     "radius": {"ex7": 40.0, "ex8": 40.0, "ex9": 40.0}, "max_rel_ci": 0.3}
+    swpm = []
+    for ex in (7, 8, 9):  # the weighted-particle figures (issue 11), here on the same histograms
+        names = {k: str(tmp_path / f"swpm{ex}.{k}") for k in ("png", "pdf")}
+        names["summary"] = str(tmp_path / f"swpm{ex}.json")
+        run_script("tail_swpm.py", input={"swpm": runs[f"ex{ex}"], "constant": runs[f"ex{ex}"]}, output=names,
+                   params={"tails": tails, "example": ex})
+        assert _is_png(tmp_path / f"swpm{ex}.png", 5_000)
+        swpm.append(names["summary"])
+    run_script("tail_exponents.py", input={**runs, "local": local, "swpm": swpm},
+               output={"csv": str(out), "windows": str(windows)}, params={"tails": tails})
     rows = _rows(out)
+    for r in rows:  # issue 11 columns; both runs are the same histogram, so both depths agree
+        assert float(r["depth_swpm"]) == float(r["depth_constant"]) and 0 < float(r["depth_swpm"]) < 1e-5
+        assert float(r["b_swpm"]) == pytest.approx(float(r["theory_b"]), abs=0.05) and float(r["b_swpm_ci"]) > 0
     assert list(rows[0])[:7] == ["example", "kernel", "lambda", "theory_b", "b", "b_stderr", "fit_window"]
     for r in rows:  # exact histograms (eq. 38 with b = theory): b to the 6 digits of the CSV
         assert float(r["b"]) == pytest.approx(float(r["theory_b"]), rel=1e-5) and float(r["b_stderr"]) < 1e-6

@@ -283,6 +283,7 @@ rule grw05_tail_exponents:
         ex8=grw05_runs("ex8"),
         ex9=grw05_runs("ex9"),
         local=[getattr(rules, f"grw05_tail_local_{ex}").output.summary for ex in ("ex7", "ex8", "ex9")],
+        swpm=[f"results/figures/grw05_tail_swpm_{ex}.json" for ex in ("ex7", "ex8", "ex9")],  # grw05_swpm.smk
     output:
         csv=report("results/tables/grw05_tail_exponents.csv", caption="../report/grw05_tails.rst", category="GRW05"),
         windows="results/tables/grw05_tail_windows.csv",

@@ -7,7 +7,9 @@ shell volumes, "density", or as they are, "fraction"); theory b = 1 + lambda/2 (
 Output csv: the exponent table (granboltz.tails.TAIL_COLUMNS); output windows: b of every
 example on every window of params.tails.windows and for both normalisations (WINDOW_COLUMNS).
 The exponent table also takes the local-exponent numbers of each example (input local: the
-summaries of rule grw05_tail_local_ex*, granboltz.tail_local; columns tails.LOCAL_COLUMNS).
+summaries of rule grw05_tail_local_ex*, granboltz.tail_local; columns tails.LOCAL_COLUMNS) and the
+weighted-particle numbers (input swpm: the summaries of rule grw05_tail_swpm_ex*,
+granboltz.tail_swpm; columns tails.SWPM_COLUMNS; issue 11).
 """
 
 import json
@@ -17,7 +19,7 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
 from granboltz.dsmc import read_histogram  # noqa: E402
 from granboltz.files import write_csv  # noqa: E402
-from granboltz.tails import LOCAL_COLUMNS, TAIL_COLUMNS, tail_rows, WINDOW_COLUMNS  # noqa: E402
+from granboltz.tails import LOCAL_COLUMNS, SWPM_COLUMNS, TAIL_COLUMNS, tail_rows, WINDOW_COLUMNS  # noqa: E402
 
 tails = snakemake.params.tails
 hists = {}
@@ -29,8 +31,13 @@ for path in snakemake.input.local:
     with open(path) as f:
         numbers = json.load(f)["numbers"]
     local[int(numbers["example"])] = numbers
-rows, wrows = tail_rows(hists, tails, local)
-write_csv(rows, TAIL_COLUMNS + LOCAL_COLUMNS, snakemake.output.csv, digits=6)
+swpm = {}
+for path in snakemake.input.swpm:
+    with open(path) as f:
+        numbers = json.load(f)["numbers"]
+    swpm[int(numbers["example"])] = numbers
+rows, wrows = tail_rows(hists, tails, local, swpm)
+write_csv(rows, TAIL_COLUMNS + LOCAL_COLUMNS + SWPM_COLUMNS, snakemake.output.csv, digits=6)
 write_csv(wrows, WINDOW_COLUMNS, snakemake.output.windows, digits=6)
 for row in rows + wrows:
     print(row, file=sys.stderr)

@@ -56,6 +56,8 @@ TAIL_COLUMNS = ["example", "kernel", "lambda", "theory_b", "b", "b_stderr", "fit
 # From the local-exponent analysis (granboltz.tail_local, one summary per example; issue 10).
 LOCAL_COLUMNS = ["b_local_far", "b_local_far_ci", "r_far", "a_fit", "a_theory", "a_fit_ci", "chi_fit",
                  "r_far_thermal", "f_ratio_far", "r_limit", "b_local_expected", "offset", "b_eq38_expected"]
+# From the weighted-particle runs (granboltz.tail_swpm, one summary per example; issue 11).
+SWPM_COLUMNS = ["b_swpm", "b_swpm_ci", "a_swpm", "a_swpm_ci", "depth_swpm", "depth_constant"]
 WINDOW_COLUMNS = ["example", "lambda", "histogram", "window", "k_minus_k0", "points", "b", "b_stderr", "theory_b"]
 
 
@@ -64,11 +66,12 @@ def window_text(window):
     return f"[{window[0]:g}, {window[1]:g}]"
 
 
-def tail_rows(hists, tails, local=None):
+def tail_rows(hists, tails, local=None, swpm=None):
     """The tail-exponent table (one row per example: the fit on tails["fit_window"] with
     tails["histogram"]) and the window table (every example on every window of tails["windows"],
     for both histogram normalisations). hists: {example number: read_histogram dict}; theory_b =
-    1 + lambda/2 (GRW05 eqs. 20, 21); local: {example: tail_local summary} adds LOCAL_COLUMNS."""
+    1 + lambda/2 (GRW05 eqs. 20, 21); local: {example: tail_local summary} adds LOCAL_COLUMNS;
+    swpm: {example: tail_swpm summary} adds SWPM_COLUMNS."""
     rows, wrows = [], []
     for ex, hist in sorted(hists.items()):
         d = hist["config"]["dsmc"]
@@ -81,6 +84,8 @@ def tail_rows(hists, tails, local=None):
                      "t_end": d["t_end"], "n": hist["n"], "N": hist["N"], **fit})
         if local is not None:
             rows[-1].update({key: local[ex][key] for key in LOCAL_COLUMNS})
+        if swpm is not None:
+            rows[-1].update({key: swpm[ex][key] for key in SWPM_COLUMNS})
         for histogram in ("density", "fraction"):
             _, x, y = tail_points(hist, tails["k0"], tails["min_count"], histogram)
             for w in tails["windows"]:

@@ -7,6 +7,7 @@ from .beyond import BEYOND, beyond_section, compare_beyond_a2, compare_beyond_ha
 from .convergence import compare_convergence, compare_rw05_table1, compare_rw05_table2
 from .numbers import VERDICT_MARKS, VERDICT_MEANING, marked, num
 from .render import anchor
+from .swpm import SWPM, swpm_section
 from .steady import compare_effort, compare_replicas, compare_steady
 from .tails import compare_ex7_moments, compare_tails
 from .tv06 import compare_tv06_dsmc, compare_tv06_needle, compare_tv06_temperature
@@ -161,12 +162,16 @@ def build_document(items, data, config, machine, profile):
     """The whole report as blocks. data: tables {csv path: rows}, published {path: rows},
     summaries {json path: dict}, bench {tsv path: seconds}, runs {h5 path: attrs}."""
     body, summary = [], []
-    for paper in dict.fromkeys(["GRW05", "RW05", "TV06"] + [it["paper"] for it in items if it["paper"] != BEYOND]):
+    for paper in dict.fromkeys(["GRW05", "RW05", "TV06"] + [it["paper"] for it in items if it["paper"] not in (BEYOND, SWPM)]):
         blocks, rows = paper_section(paper, items, data)
         body += blocks
         summary += rows
     if any(it["paper"] == BEYOND for it in items):  # issue 14: after the papers
         blocks, rows = beyond_section(items, data, item_blocks)
+        body += blocks
+        summary += rows
+    if any(it["paper"] == SWPM for it in items):  # issue 11: weighted particles, after the papers
+        blocks, rows = swpm_section(items, data, item_blocks)
         body += blocks
         summary += rows
     return (title_section(profile) + summary_section(summary) + body + notes_section()

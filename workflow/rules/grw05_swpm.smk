@@ -1,0 +1,105 @@
+"""GRW05 Examples 7-9 with weighted particles (SWPM; issue 11, GRW05 Remark 10): the deep tails.
+
+Raw runs:  results/grw05_swpm/<experiment>/N=<ensembles>/n=<particles>/run.h5 (dsmc.weights: swpm,
+           kappa and max_particles of config grw05.tails.swpm; the physics and t_end of the
+           experiment, final state only; histogram of 128 shells out to tails.swpm.radius)
+Items:     figures grw05_tail_swpm_ex{7,8,9} (ln f against r for both methods, b(r) of both) with
+           their summaries, which the tail-exponent table takes (columns b_swpm ... depth_swpm), in
+           the report section "Weighted particles".
+"""
+
+SWPM = GRW05["tails"]["swpm"]
+SWPM_PAPER = "Weighted particles"
+SWPM_EXAMPLES = ("ex7", "ex8", "ex9")
+
+
+def grw05_swpm_runs(ex):
+    """The SWPM run of experiment `ex` (one per example)."""
+    return expand("results/grw05_swpm/{ex}/N={N}/n={n}/run.h5", ex=ex, N=SWPM["ensembles"], n=SWPM["particles"])
+
+
+def grw05_swpm_run_config(wildcards):
+    """Run config of results/grw05_swpm/{ex}/N={N}/n={n}: the experiment's physics and t_end
+    (final state only), the SWPM weights and the wide histogram."""
+    e = GRW05[wildcards.ex]
+    weights = {"method": "swpm", "kappa": SWPM["kappa"], "max_particles": int(SWPM["max_particles"]),
+               "reduction": SWPM["reduction"]}
+    histogram = {"shells": int(e["histogram"]["shells"]), "radius": float(SWPM["radius"][wildcards.ex])}
+    label = f"grw05_swpm/{wildcards.ex}/n={wildcards.n}"
+    return dsmc_run_config(label, e, wildcards.N, wildcards.n, e["t_end"], e["t_end"], scheme="nosplit",
+                           histogram=histogram, weights=weights)
+
+
+def swpm_mem_mb(wildcards, threads):
+    """Memory of an SWPM run: as run_mem_mb, with the particle cap in place of n."""
+    extra = int(SWPM["max_particles"]) * threads * config["mem_bytes_per_particle"]
+    return config["run_mem_mb"] + math.ceil(extra / 1e6)
+
+
+localrules:
+    grw05_swpm_run_config,
+
+
+rule grw05_swpm_run_config:
+    output:
+        yaml="results/grw05_swpm/{ex}/N={N}/n={n}/run.yaml",
+    log:
+        "logs/grw05_swpm/{ex}/N={N}/n={n}/run_config.log",
+    wildcard_constraints:
+        ex=_one_of(SWPM_EXAMPLES),
+    params:
+        run=grw05_swpm_run_config,
+    script:
+        "../scripts/write_run_config.py"
+
+
+rule grw05_swpm_run:
+    input:
+        config=rules.grw05_swpm_run_config.output.yaml,
+        granboltz=config["granboltz"],
+    output:
+        h5="results/grw05_swpm/{ex}/N={N}/n={n}/run.h5",
+    log:
+        "logs/grw05_swpm/{ex}/N={N}/n={n}/run.log",
+    benchmark:
+        "benchmarks/grw05_swpm/{ex}/N={N}/n={n}/run.tsv"
+    wildcard_constraints:
+        ex=_one_of(SWPM_EXAMPLES),
+    threads: run_threads
+    resources:
+        mem_mb=swpm_mem_mb,
+    shell:
+        "{input.granboltz} run {input.config} -o {output.h5} --threads {threads} > {log} 2>&1"
+
+
+# ln f against r for both methods and b(r) of both, one figure per example (issue 11, item 5).
+for _ex in SWPM_EXAMPLES:
+
+    rule:
+        name:
+            f"grw05_tail_swpm_{_ex}"
+        input:
+            swpm=grw05_swpm_runs(_ex),
+            constant=grw05_runs(_ex),
+        output:
+            png=report(f"figures/grw05_tail_swpm_{_ex}.png", caption="../report/grw05_tail_swpm.rst",
+                       category="Weighted particles"),
+            pdf=f"figures/grw05_tail_swpm_{_ex}.pdf",
+            summary=f"results/figures/grw05_tail_swpm_{_ex}.json",
+        log:
+            f"logs/figures/grw05_tail_swpm_{_ex}.log",
+        benchmark:
+            f"benchmarks/figures/grw05_tail_swpm_{_ex}.tsv"
+        params:
+            tails=GRW05["tails"],
+            example=int(_ex[2:]),
+        script:
+            "../scripts/tail_swpm.py"
+
+
+for _ex, _b in (("ex7", "1"), ("ex8", "1.5"), ("ex9", "1.25")):
+    _rule = getattr(rules, f"grw05_tail_swpm_{_ex}")
+    report_item(SWPM_PAPER, f"Tail Ex. {_ex[2:]}", _rule, "figure", _rule.output.png,
+                f"(not in the paper; issue 11, GRW05 Remark 10) ln f against r with weighted particles (SWPM) and "
+                f"constant weights, and b(r) of both against theory b = {_b}", runs=_rule.input.swpm,
+                run_rule=rules.grw05_swpm_run, summary=_rule.output.summary)
