@@ -238,17 +238,8 @@ def colour_signature(cell, seen):
     return frozenset(sig)
 
 
-# The report generator has the styling fix (issue 9 item 4); the committed paper/ report was
-# written before it and is regenerated with the next paper-profile run. Strict: once paper/ is
-# republished this xfail turns into a failure and must be removed.
-PAPER_REPORT_PREDATES_STYLING = True
-
-
-def test_tables_align_text_left_numbers_right_and_verdicts_stand_out(rendered, request):
+def test_tables_align_text_left_numbers_right_and_verdicts_stand_out(rendered):
     report, seen = rendered
-    if PAPER_REPORT_PREDATES_STYLING and report.parent.name == "paper":
-        request.applymarker(pytest.mark.xfail(strict=True, reason="paper/ was published before the "
-                                              "styling fix of issue 9 item 4"))
     wrong = []
     for table in seen["tables"]:
         for j, kind in enumerate(column_kinds(table)):
