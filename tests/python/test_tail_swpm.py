@@ -57,3 +57,14 @@ def test_summary_recovers_b_and_a_of_a_known_tail(example, b):
     assert summary["depth_swpm"] == summary["depth_constant"] < 1e-8
     ok, text = swpm_verdict(summary)
     assert text.startswith("agrees with the goal" if ok else "differs from the goal")
+
+
+def test_verdict_names_why_there_is_no_b():
+    # No fitted b: either the resolved profile never reached the tail, or it did and the joint fit
+    # of a, b and chi did not converge; the verdict must say which.
+    base = {"theory_b": 1.0, "a_theory": 0.73, "b_swpm": float("nan"), "b_swpm_ci": float("nan"),
+            "a_swpm": float("nan"), "depth_swpm": 9e-8, "depth_constant": 2.6e-8}
+    ok, text = swpm_verdict({**base, "fit_r_lo": 11.7, "fit_r_hi": 28.4})
+    assert not ok and "does not converge" in text and "11.7" in text
+    ok, text = swpm_verdict({**base, "depth_swpm": 0.05, "fit_r_lo": 12.0, "fit_r_hi": 3.0})
+    assert not ok and "no tail to fit" in text

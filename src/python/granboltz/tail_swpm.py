@@ -123,6 +123,10 @@ def swpm_verdict(s, b_tol=0.03, ci_max=0.03, a_rel=0.05):
     depth = (f"resolved to f/f(0) = {s['depth_swpm']:.1e} (constant weights {s['depth_constant']:.1e}; "
              "goal 1e-30)")
     if not np.isfinite(s["b_swpm"]):
+        if s["fit_r_hi"] > s["fit_r_lo"]:  # a resolved tail, but (a, b, chi) together did not converge
+            return False, (f"differs from the goal (b within {b_tol:g} of {s['theory_b']:g}): {depth}; on the "
+                           f"resolved tail r = {s['fit_r_lo']:.3g}…{s['fit_r_hi']:.3g} the fit of a, b and χ "
+                           "together does not converge (the window does not separate them)")
         return False, (f"differs from the goal (b within {b_tol:g} of {s['theory_b']:g}): {depth}, not below "
                        "tails.local.tail_from, so no tail to fit b and a on")
     text = (f"b = {s['b_swpm']:.3f} ± {s['b_swpm_ci']:.3f} (theory {s['theory_b']:g}), "
