@@ -10,7 +10,7 @@ under cachegrind and its simulation child is reported.
 import csv
 import glob
 import os
-import re
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -46,6 +46,8 @@ def main():
     if len(sys.argv) < 2:
         sys.exit("usage: counters.py BENCH_BINARY [CONFIG ...]")
     bench, configs = sys.argv[1], sys.argv[2:] or DEFAULT
+    if shutil.which("valgrind") is None:
+        sys.exit("counters.py: needs valgrind (apt-get install valgrind)")
     print("hardware counters:", "available (use perf stat)" if perf_works() else
           "not exposed on this machine; cachegrind simulation below")
     print(f"{'config':24} {'events':>10} {'instr/event':>12} {'mispredicts/event':>18} "
