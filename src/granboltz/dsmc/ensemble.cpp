@@ -8,6 +8,7 @@
 #include "granboltz/physics/heating.hpp"
 #include "granboltz/random/samplers.hpp"
 #include "granboltz/io/engine_io.hpp"
+#include "granboltz/io/particles_io.hpp"
 
 namespace granboltz {
 
@@ -511,14 +512,7 @@ bool DsmcEnsemble::advance_to(double s, const std::atomic<bool>* pause) {
 
 void DsmcEnsemble::save(H5Writer& out, const std::string& g) const {
   const std::size_t n = p_.size();
-  std::vector<double> particles(4 * n);
-  for (std::size_t i = 0; i < n; ++i) {
-    particles[4 * i] = p_[i].v.x;
-    particles[4 * i + 1] = p_[i].v.y;
-    particles[4 * i + 2] = p_[i].v.z;
-    particles[4 * i + 3] = p_[i].t;
-  }
-  out.write(g + "/particles", particles, {n, 4});
+  write_particles(out, g + "/particles", p_);
   out.write(g + "/scalars", std::vector<double>{t_, v0_.x, v0_.y, v0_.z, u_max_, w_sum_, w_max_},
             {7});
   write_engine(out, g + "/events_stream", events_);
@@ -551,17 +545,13 @@ DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, const H5Reader& in, const s
       pairwise_(config.majorant == MajorantKind::kPairwise),
       progress_(progress) {
   const std::size_t n = p_.size();
-  const auto particles = in.read_double(g + "/particles");
+  const bool rows = read_particles(in, g + "/particles", p_);
   const auto scalars = in.read_double(g + "/scalars");
   const auto ring_index = in.read_uint64(g + "/ring_index");
   const auto counters = in.read_uint64(g + "/counters");
-  if (particles.size() != 4 * n || scalars.size() != 7 || ring_index.size() != 2 * kLookahead ||
+  if (!rows || p_.size() != n || scalars.size() != 7 || ring_index.size() != 2 * kLookahead ||
       counters.size() != 5 || counters[0] >= kLookahead)
     throw std::runtime_error(in.path() + ": malformed ensemble state " + g);
-  for (std::size_t i = 0; i < n; ++i) {
-    p_[i].v = {particles[4 * i], particles[4 * i + 1], particles[4 * i + 2]};
-    p_[i].t = particles[4 * i + 3];
-  }
   t_ = scalars[0];
   v0_ = {scalars[1], scalars[2], scalars[3]};
   set_majorant(scalars[4]);

@@ -9,6 +9,7 @@
 #include "granboltz/physics/heating.hpp"
 #include "granboltz/random/samplers.hpp"
 #include "granboltz/io/engine_io.hpp"
+#include "granboltz/io/particles_io.hpp"
 
 namespace granboltz {
 
@@ -351,16 +352,7 @@ bool WeightedEnsemble::advance_to(double s, const std::atomic<bool>* pause) {
 // ---- Checkpoints ----
 
 void WeightedEnsemble::save(H5Writer& out, const std::string& g) const {
-  const std::size_t n = p_.size();
-  std::vector<double> particles(5 * n);
-  for (std::size_t i = 0; i < n; ++i) {
-    particles[5 * i] = p_[i].v.x;
-    particles[5 * i + 1] = p_[i].v.y;
-    particles[5 * i + 2] = p_[i].v.z;
-    particles[5 * i + 3] = p_[i].t;
-    particles[5 * i + 4] = g_[i];
-  }
-  out.write(g + "/weighted_particles", particles, {n, 5});
+  write_particles(out, g + "/weighted_particles", p_, &g_);
   out.write(g + "/scalars", std::vector<double>{t_, v0_.x, v0_.y, v0_.z, u_max_}, {5});
   write_engine(out, g + "/events_stream", events_);
   write_engine(out, g + "/pairs_stream", pairs_);
@@ -382,22 +374,13 @@ WeightedEnsemble::WeightedEnsemble(const DsmcConfig& config, const H5Reader& in,
       sweep_(read_engine(in, g + "/sweep_stream")),
       reduce_(read_engine(in, g + "/reduce_stream")),
       progress_(progress) {
-  const auto particles = in.read_double(g + "/weighted_particles");
+  const bool rows = read_particles(in, g + "/weighted_particles", p_, &g_);
   const auto scalars = in.read_double(g + "/scalars");
   const auto counters = in.read_uint64(g + "/counters");
-  const std::size_t n = particles.size() / 5;
-  if (particles.size() % 5 || n < 2 || n > config.weights.max_particles || scalars.size() != 5 ||
-      counters.size() != 4)
+  const std::size_t n = p_.size();
+  if (!rows || n < 2 || n > config.weights.max_particles || scalars.size() != 5 ||
+      counters.size() != 4 || !std::all_of(g_.begin(), g_.end(), [](double w) { return w > 0.0; }))
     throw std::runtime_error(in.path() + ": malformed weighted ensemble state " + g);
-  p_.resize(n);
-  g_.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    p_[i].v = {particles[5 * i], particles[5 * i + 1], particles[5 * i + 2]};
-    p_[i].t = particles[5 * i + 3];
-    g_[i] = particles[5 * i + 4];
-    if (!(g_[i] > 0.0))
-      throw std::runtime_error(in.path() + ": malformed weighted ensemble state " + g);
-  }
   t_ = scalars[0];
   v0_ = {scalars[1], scalars[2], scalars[3]};
   u_max_ = scalars[4];

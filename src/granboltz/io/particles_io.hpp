@@ -1,0 +1,43 @@
+#pragma once
+// Particle arrays in a checkpoint: one row (v_x, v_y, v_z, t) per particle, with the weight as a
+// fifth column for weighted particles.
+#include <string>
+#include <vector>
+
+#include "granboltz/dsmc/particles.hpp"
+#include "granboltz/io/hdf5_io.hpp"
+
+namespace granboltz {
+
+inline void write_particles(H5Writer& out, const std::string& path, const Particles& p,
+                            const std::vector<double>* weights = nullptr) {
+  const std::size_t n = p.size(), cols = weights ? 5 : 4;
+  std::vector<double> rows(cols * n);
+  for (std::size_t i = 0; i < n; ++i) {
+    double* r = &rows[cols * i];
+    r[0] = p[i].v.x, r[1] = p[i].v.y, r[2] = p[i].v.z, r[3] = p[i].t;
+    if (weights) r[4] = (*weights)[i];
+  }
+  out.write(path, rows, {n, cols});
+}
+
+/// Reads the rows written by write_particles into p (and weights), resized to their number;
+/// false if the array is not a whole number of rows.
+inline bool read_particles(const H5Reader& in, const std::string& path, Particles& p,
+                           std::vector<double>* weights = nullptr) {
+  const auto rows = in.read_double(path);
+  const std::size_t cols = weights ? 5 : 4;
+  if (rows.size() % cols) return false;
+  const std::size_t n = rows.size() / cols;
+  p.resize(n);
+  if (weights) weights->resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double* r = &rows[cols * i];
+    p[i].v = {r[0], r[1], r[2]};
+    p[i].t = r[3];
+    if (weights) (*weights)[i] = r[4];
+  }
+  return true;
+}
+
+}  // namespace granboltz
