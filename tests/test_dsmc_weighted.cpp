@@ -287,6 +287,113 @@ TEST(WeightedEnsemble, MaxwellSteadyMomentsMatchTheExactHierarchy) {
   }
 }
 
+TEST(WeightedSplit, CopiesKeepEveryMomentAndRouletteKeepsTheMass) {
+  // Tail particles far heavier than their target are split into equal copies (at most 16 per
+  // sweep); light ones in one band of w* play roulette in pairs.
+  const SplitSpec spec{true, 2.0, 1.5, 1.0, 0.1};
+  const double g_ref = 1e-3;
+  Engine eng = make_stream(5, 0, Consumer::kSplit);
+  Particles p = {{{0.5, 0.0, 0.0}, 0.0}};  // inside the radius: never touched
+  std::vector<double> g = {1e-9};
+  for (int i = 0; i < 200; ++i) {
+    const double r = 2.5 + 10.0 * uniform01(eng);
+    p.push_back({r * unit_vector(eng), 0.0});
+    // log-uniform over [w*/100, 100 w*]: about a third heavy, a third light
+    g.push_back(split_target(spec, g_ref, r) * std::pow(10.0, 4.0 * uniform01(eng) - 2.0));
+  }
+  const WeightedMoments before = weighted_moments(p, g);
+  std::size_t heavy = 0, light = 0, expected_copies = 0;
+  for (std::size_t i = 1; i < p.size(); ++i) {
+    const double target = split_target(spec, g_ref, norm(p[i].v));
+    if (g[i] > 2 * target) ++heavy, expected_copies += std::min(std::floor(g[i] / target), 16.0) - 1;
+    if (g[i] < 0.25 * target) ++light;
+  }
+  ASSERT_GT(heavy, 40u);
+  ASSERT_GT(light, 40u);
+  // Splitting alone (no light particles): every moment to round-off.
+  {
+    Particles q;
+    std::vector<double> h;
+    for (std::size_t i = 0; i < p.size(); ++i)
+      if (g[i] > 2 * split_target(spec, g_ref, norm(p[i].v))) q.push_back(p[i]), h.push_back(g[i]);
+    const WeightedMoments m0 = weighted_moments(q, h);
+    const std::size_t n0 = q.size();
+    const SplitCounts c = split_particles(q, h, {}, spec, g_ref, eng);
+    EXPECT_EQ(c.copies, expected_copies);
+    EXPECT_EQ(c.removed, 0u);
+    EXPECT_EQ(q.size(), n0 + expected_copies);
+    const WeightedMoments m1 = weighted_moments(q, h);
+    EXPECT_NEAR(m1.mass, m0.mass, roundoff(m0.mass, q.size()));
+    expect_near3(m1.momentum, m0.momentum, roundoff(100 * m0.mass, q.size()), "momentum");
+    EXPECT_NEAR(m1.energy, m0.energy, roundoff(m0.energy, q.size()));
+  }
+  const SplitCounts c = split_particles(p, g, {}, spec, g_ref, eng);
+  EXPECT_EQ(c.copies, expected_copies);
+  EXPECT_GE(c.removed, light / 2 - 20);  // pairs within a band; a few are alone in theirs
+  EXPECT_LE(c.removed, light / 2);
+  const WeightedMoments after = weighted_moments(p, g);
+  EXPECT_NEAR(after.mass, before.mass, roundoff(before.mass, p.size()));
+  EXPECT_EQ(p[0].v.x, 0.5);  // the particle inside the radius kept its place and weight
+  EXPECT_EQ(g[0], 1e-9);
+}
+
+TEST(WeightedSplit, RouletteIsUnbiased) {
+  // Two light particles in one band: each keeps its weight in expectation over the draws.
+  const SplitSpec spec{true, 1.0, 1.0, 1.0, 0.1};
+  const double g_ref = 1.0;
+  const Vec3 va{3.0, 0.0, 0.0}, vb{0.0, 3.1, 0.0};
+  const double target = split_target(spec, g_ref, 3.0);
+  const double ga = 0.02 * target, gb = 0.06 * target;
+  Engine eng = make_stream(6, 0, Consumer::kSplit);
+  const int trials = 20000;
+  double sum_a = 0, sum_a2 = 0;
+  for (int k = 0; k < trials; ++k) {
+    Particles p = {{va, 0.0}, {vb, 0.0}};
+    std::vector<double> g = {ga, gb};
+    ASSERT_EQ(split_particles(p, g, {}, spec, g_ref, eng).removed, 1u);
+    ASSERT_EQ(p.size(), 1u);
+    EXPECT_NEAR(g[0], ga + gb, 1e-15 * target);
+    const double wa = p[0].v.x == 3.0 ? g[0] : 0.0;
+    sum_a += wa, sum_a2 += wa * wa;
+  }
+  const double mean = sum_a / trials, var = sum_a2 / trials - mean * mean;
+  EXPECT_NEAR(mean, ga, test::family_z(1) * std::sqrt(var / trials));
+}
+
+TEST(WeightedEnsemble, MaxwellSteadyMomentsWithSplittingMatchTheExactHierarchy) {
+  // As the test above with importance splitting beyond 2.5 thermal speeds (r_s = 4, sqrt(T) =
+  // 1.63): the tail moments M_8 and M_10 (whose integrands peak at r ~ 5-6, in the split region)
+  // against the exact values of granboltz.maxwell_hierarchy.steady_moments (alpha = 1/2,
+  // beta = 1, nu = 4). The importance function is deliberately not the true tail (exp(-2 r)):
+  // power 1.5, so splitting and roulette must be unbiased whatever the target weights. A biased
+  // roulette (keeping either particle of a pair with probability 1/2) fails it at M_6 to M_10.
+  const std::uint64_t N = 60;
+  const Config cfg = parse_config("{}", "test", [&] {
+    std::vector<std::string> s = {"model=dsmc", "seed=33", "ensembles=" + std::to_string(N),
+                                  "dsmc.particles=1000", "dsmc.alpha=0.5", "dsmc.beta=1",
+                                  "dsmc.gamma=1", "dsmc.kernel.lambda=0",
+                                  "dsmc.kernel.C=" + format_real(1 / M_PI),
+                                  "dsmc.initial.temperature=" + format_real(8.0 / 3.0),
+                                  "dsmc.t_end=4", "dsmc.moments=5",
+                                  "dsmc.weights.split.radius=4", "dsmc.weights.split.rate=0.8",
+                                  "dsmc.weights.split.power=1.5",
+                                  "dsmc.weights.split.interval=0.03"};
+    for (auto& x : swpm_sets("1", 3000)) s.push_back(x);
+    return s;
+  }());
+  const test::DsmcRun r(cfg);
+  const double exact[5] = {8.0, 8000.0 / 69.0, 332864000.0 / 129789.0,
+                           301884782080000.0 / 3787427871.0,
+                           10695623645523783680000.0 / 3228104310438591.0};
+  const double z = test::family_z(5);
+  const std::size_t m = r.times.size() - 1;
+  for (int p = 1; p <= 5; ++p) {
+    const MeanCi s = r.moment(m, p, 5);
+    EXPECT_NEAR(s.mean, exact[p - 1], z * std::sqrt(s.variance / static_cast<double>(N)))
+        << moment_name(p);
+  }
+}
+
 TEST(WeightedEnsemble, HardSphereSteadyTemperatureAndA2MatchConstantWeights) {
   // Hard spheres, alpha = 1/2, beta = 1, gamma = 1, C1 = 1/(4 pi), from T0 = 1 to t = 3 (several
   // relaxation times of T): SWPM with kappa = 1 and a cap that forces reductions against
@@ -343,42 +450,64 @@ TEST(WeightedConfig, BadWeightsKeysGiveOneLineErrors) {
   s.push_back("dsmc.scheme=strang");
   s.push_back("dsmc.steps=4");
   EXPECT_NE(with(s).find("supports only scheme nosplit"), std::string::npos);
-  for (const auto& msg : {with(swpm_sets("-1", 100)), with(s)})
+  auto split = swpm_sets("1", 100);
+  for (const char* x : {"dsmc.weights.split.radius=3", "dsmc.weights.split.rate=0",
+                        "dsmc.weights.split.interval=0.1"})
+    split.push_back(x);
+  EXPECT_NE(with(split).find("dsmc.weights.split.rate = 0"), std::string::npos) << with(split);
+  split.back() = "dsmc.weights.split.interval=2";  // beyond t_end = 1
+  split[split.size() - 2] = "dsmc.weights.split.rate=1";
+  EXPECT_NE(with(split).find("dsmc.weights.split.interval = 2"), std::string::npos);
+  split.back() = "dsmc.weights.split.interval=0.1";
+  EXPECT_EQ(with(split), "");
+  split.push_back("dsmc.weights.split.every=1");
+  EXPECT_NE(with(split).find("every"), std::string::npos) << with(split);
+  for (const auto& msg : {with(swpm_sets("-1", 100)), with(s), with(split)})
     EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
 }
 
 TEST(WeightedEnsemble, SavedAndRestoredMidRunContinuesBitForBit) {
   // A weighted ensemble saved in progress (after reductions) and restored continues exactly as
-  // the uninterrupted one: particles, weights, kick times, streams and majorant are all saved.
-  const Config cfg = parse_config("{}", "test", [] {
-    std::vector<std::string> s = {"model=dsmc", "seed=41", "ensembles=1", "dsmc.particles=200",
-                                  "dsmc.alpha=0.5", "dsmc.beta=1", "dsmc.gamma=1",
-                                  "dsmc.kernel.lambda=1", "dsmc.kernel.C=0.1", "dsmc.t_end=2"};
-    for (auto& x : swpm_sets("2", 400, "heat_flux")) s.push_back(x);
-    return s;
-  }());
-  WeightedEnsemble a(cfg.dsmc, 41, 3), b(cfg.dsmc, 41, 3);
-  a.advance_to(0.7);
-  b.advance_to(0.7);
-  ASSERT_GT(b.reductions(), 0u);
-  test::TempDir dir;
-  const std::string path = dir.file("state.h5");
-  {
-    H5Writer out(path);
-    b.save(out, "/state");
-    out.commit();
+  // the uninterrupted one: particles, weights, kick times, streams and majorant are all saved,
+  // and with importance splitting (a steep importance, so that the population control acts) the
+  // sweep count, the split stream and the target scale as well.
+  for (const bool split : {false, true}) {
+    const Config cfg = parse_config("{}", "test", [&] {
+      std::vector<std::string> s = {"model=dsmc", "seed=41", "ensembles=1", "dsmc.particles=200",
+                                    "dsmc.alpha=0.5", "dsmc.beta=1", "dsmc.gamma=1",
+                                    "dsmc.kernel.lambda=1", "dsmc.kernel.C=0.1", "dsmc.t_end=2"};
+      for (auto& x : swpm_sets("2", 400, "heat_flux")) s.push_back(x);
+      if (split)
+        for (const char* x : {"dsmc.weights.split.radius=2", "dsmc.weights.split.rate=3",
+                              "dsmc.weights.split.power=1.5", "dsmc.weights.split.interval=0.05"})
+          s.push_back(x);
+      return s;
+    }());
+    WeightedEnsemble a(cfg.dsmc, 41, 3), b(cfg.dsmc, 41, 3);
+    a.advance_to(0.7);
+    b.advance_to(0.7);
+    ASSERT_GT(b.reductions(), 0u);
+    if (split) ASSERT_GT(b.split_sweeps(), 10u);
+    test::TempDir dir;
+    const std::string path = dir.file("state.h5");
+    {
+      H5Writer out(path);
+      b.save(out, "/state");
+      out.commit();
+    }
+    WeightedEnsemble c(cfg.dsmc, H5Reader(path), "/state");
+    a.advance_to(2.0);
+    c.advance_to(2.0);
+    ASSERT_EQ(a.particles().size(), c.particles().size());
+    for (std::size_t i = 0; i < a.particles().size(); ++i) {
+      ASSERT_EQ(a.particles()[i].v.x, c.particles()[i].v.x) << i;
+      ASSERT_EQ(a.particles()[i].v.z, c.particles()[i].v.z) << i;
+      ASSERT_EQ(a.weights()[i], c.weights()[i]) << i;
+    }
+    EXPECT_EQ(a.counts().collisions, c.counts().collisions);
+    EXPECT_EQ(a.u_max(), c.u_max());
+    EXPECT_EQ(a.split_sweeps(), c.split_sweeps());
   }
-  WeightedEnsemble c(cfg.dsmc, H5Reader(path), "/state");
-  a.advance_to(2.0);
-  c.advance_to(2.0);
-  ASSERT_EQ(a.particles().size(), c.particles().size());
-  for (std::size_t i = 0; i < a.particles().size(); ++i) {
-    ASSERT_EQ(a.particles()[i].v.x, c.particles()[i].v.x) << i;
-    ASSERT_EQ(a.particles()[i].v.z, c.particles()[i].v.z) << i;
-    ASSERT_EQ(a.weights()[i], c.weights()[i]) << i;
-  }
-  EXPECT_EQ(a.counts().collisions, c.counts().collisions);
-  EXPECT_EQ(a.u_max(), c.u_max());
 }
 
 TEST(WeightedEnsemble, ShardsMergeAndThreadCountsGiveTheSameBits) {

@@ -162,15 +162,18 @@ def tail_histogram(K=128, R=40.0, a=0.5, b=1.0, k0=1, total=None, seed=1):
     return edges, counts / total, counts.astype(np.uint64)
 
 
-def write_fake_histogram_run(path, lam=0.0, R=40.0, a=0.5, b=1.0, total=None, n=1000000, N=8, t_end=2.5):
+def write_fake_histogram_run(path, lam=0.0, R=40.0, a=0.5, b=1.0, total=None, n=1000000, N=8, t_end=2.5,
+                             steady=False):
     """A tail run (GRW05 §5.3) with the histogram of tail_histogram at the final time and a
-    Maxwellian-like one at t = 0."""
+    Maxwellian-like one at t = 0; steady=True: also as the steady histogram (steady_from = t_end/2)."""
     edges, final, counts = tail_histogram(R=R, a=a, b=b, total=total)
     initial = np.exp(-edges[1:] ** 2 / 2) * edges[1:] ** 2
     initial = np.append(initial / initial.sum(), 0.0)
     dsmc = {"particles": n, "scheme": "nosplit", "alpha": 0.1, "beta": 30.0, "gamma": 16.0,
             "kernel": {"lambda": lam, "C": 1 / (4 * np.pi)}, "initial": {"temperature": 1.0}, "t_end": t_end,
             "observe_every": t_end, "histogram": {"shells": edges.size - 1, "radius": R}}
+    if steady:
+        dsmc["steady_from"] = t_end / 2
     with h5py.File(path, "w") as f:
         _attrs(f, {"model": "dsmc", "seed": 1, "ensembles": N, "dsmc": dsmc}, N)
         f["time"] = np.array([0.0, t_end])
@@ -180,6 +183,9 @@ def write_fake_histogram_run(path, lam=0.0, R=40.0, a=0.5, b=1.0, total=None, n=
         f["histogram/counts"] = np.vstack([np.rint(initial * n * N), counts]).astype(np.uint64)
         f.attrs["confidence_lambda_p"] = 3.2  # multinomial standard errors of the fractions, times lambda_p
         f["histogram/ci"] = 3.2 * np.sqrt(f["histogram/mean"][()] * (1 - f["histogram/mean"][()]) / (n * N))
+        if steady:
+            f["steady/histogram/mean"] = f["histogram/mean"][1]
+            f["steady/histogram/ci"] = f["histogram/ci"][1]
     return path
 
 

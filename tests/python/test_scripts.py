@@ -193,13 +193,15 @@ def test_tail_exponent_script_recovers_b(run_script, tmp_path):
                    params={"tails": tails, "example": ex})
         assert _is_png(tmp_path / f"local{ex}.png", 5_000)
         local.append(names["summary"])
-    tails["swpm"] = {"kappa": 0.25, "max_particles": 2000, "particles": 1000, "ensembles": 8, "reduction": "energy",
-                     "radius": {"ex7": 40.0, "ex8": 40.0, "ex9": 40.0}, "max_rel_ci": 0.3}
+    tails["swpm"] = {"kappa": 0.25, "max_particles": 2000, "particles": 1000, "ensembles": 8, "rows": 1,
+                     "duration": 2.0, "reduction": "energy", "radius": {"ex7": 40.0, "ex8": 40.0, "ex9": 40.0},
+                     "split_radius": {"ex7": 4.0, "ex8": 4.0, "ex9": 4.0}, "max_rel_ci": 0.3}
     swpm = []
-    for ex in (7, 8, 9):  # the weighted-particle figures (issue 11), here on the same histograms
+    for ex, lam in ((7, 0.0), (8, 1.0), (9, 0.5)):  # the weighted-particle figures (issue 11), on the same histograms
         names = {k: str(tmp_path / f"swpm{ex}.{k}") for k in ("png", "pdf")}
         names["summary"] = str(tmp_path / f"swpm{ex}.json")
-        run_script("tail_swpm.py", input={"swpm": runs[f"ex{ex}"], "constant": runs[f"ex{ex}"]}, output=names,
+        steady = [str(write_fake_histogram_run(tmp_path / f"s{ex}.h5", lam=lam, b=1 + lam / 2, steady=True))]
+        run_script("tail_swpm.py", input={"swpm": steady, "constant": runs[f"ex{ex}"]}, output=names,
                    params={"tails": tails, "example": ex})
         assert _is_png(tmp_path / f"swpm{ex}.png", 5_000)
         swpm.append(names["summary"])

@@ -1,8 +1,10 @@
 """GRW05 Examples 7-9 with weighted particles (SWPM; issue 11, GRW05 Remark 10): the deep tails.
 
 Raw runs:  results/grw05_swpm/<experiment>/N=<ensembles>/n=<particles>/run.h5 (dsmc.weights: swpm,
-           kappa and max_particles of config grw05.tails.swpm; the physics and t_end of the
-           experiment, final state only; histogram of 128 shells out to tails.swpm.radius)
+           kappa and max_particles of config grw05.tails.swpm, importance splitting beyond
+           split_radius with the theory tail's a and b; the physics of the experiment run to
+           `duration` times its t_end, the steady histogram averaged over (t_end, duration t_end]
+           at `rows` times; 128 shells out to tails.swpm.radius)
 Items:     figures grw05_tail_swpm_ex{7,8,9} (ln f against r for both methods, b(r) of both) with
            their summaries, which the tail-exponent table takes (columns b_swpm ... depth_swpm), in
            the report section "Weighted particles".
@@ -18,16 +20,35 @@ def grw05_swpm_runs(ex):
     return expand("results/grw05_swpm/{ex}/N={N}/n={n}/run.h5", ex=ex, N=SWPM["ensembles"], n=SWPM["particles"])
 
 
+def grw05_swpm_split(ex):
+    """dsmc.weights.split of experiment `ex`: the importance function exp(-a r^b) of the theory tail
+    (GRW05 eq. 38 to leading order; it sets the variance, not the mean: docs/config.md), and sweeps
+    whose kicks move a particle by half an e-fold of it at the histogram radius R,
+    h = 1/(8 beta s^2), s = a b R^(b-1)."""
+    from granboltz.tail_theory import fast_particle_rate, tail_amplitude, tail_exponent
+
+    e = GRW05[ex]
+    lam, beta = float(e["kernel"]["lambda"]), float(e["beta"])
+    nu = fast_particle_rate(float(e["gamma"]), math.pi * float(e["kernel"]["C"]))
+    a, b = tail_amplitude(nu, beta, lam), tail_exponent(lam)
+    slope = a * b * float(SWPM["radius"][ex]) ** (b - 1)
+    return {"radius": float(SWPM["split_radius"][ex]), "rate": a, "power": b,
+            "interval": 1.0 / (8.0 * beta * slope**2)}
+
+
 def grw05_swpm_run_config(wildcards):
-    """Run config of results/grw05_swpm/{ex}/N={N}/n={n}: the experiment's physics and t_end
-    (final state only), the SWPM weights and the wide histogram."""
+    """Run config of results/grw05_swpm/{ex}/N={N}/n={n}: the experiment's physics run to
+    `duration` t_end, observed `rows` times in the steady window (t_end, duration t_end], the SWPM
+    weights with importance splitting, and the wide histogram."""
     e = GRW05[wildcards.ex]
     weights = {"method": "swpm", "kappa": SWPM["kappa"], "max_particles": int(SWPM["max_particles"]),
-               "reduction": SWPM["reduction"]}
+               "reduction": SWPM["reduction"], "split": grw05_swpm_split(wildcards.ex)}
     histogram = {"shells": int(e["histogram"]["shells"]), "radius": float(SWPM["radius"][wildcards.ex])}
     label = f"grw05_swpm/{wildcards.ex}/n={wildcards.n}"
-    return dsmc_run_config(label, e, wildcards.N, wildcards.n, e["t_end"], e["t_end"], scheme="nosplit",
-                           histogram=histogram, weights=weights)
+    t_end = float(e["t_end"])
+    window = (float(SWPM["duration"]) - 1.0) * t_end
+    return dsmc_run_config(label, e, wildcards.N, wildcards.n, t_end + window, window / int(SWPM["rows"]),
+                           scheme="nosplit", histogram=histogram, weights=weights, steady_from=t_end)
 
 
 def swpm_mem_mb(wildcards, threads):

@@ -24,7 +24,7 @@ tails, example = snakemake.params.tails, snakemake.params.example
 swpm_cfg, local = tails["swpm"], tails["local"]
 (swpm_path,) = snakemake.input.swpm
 (constant_path,) = snakemake.input.constant
-swpm, constant = shells_from_h5(swpm_path), shells_from_h5(constant_path)
+swpm, constant = shells_from_h5(swpm_path, steady=True), shells_from_h5(constant_path)
 s, curve = swpm_tail_summary(swpm, example, local, swpm_cfg["max_rel_ci"], constant)
 
 fig, (ax, bx) = plt.subplots(1, 2, figsize=(8.4, 3.4))

@@ -154,7 +154,23 @@ DsmcConfig read_dsmc(const Section& s) {
                 ") <= max_particles <= 10^9");
     c.weights.reduction = w.choice("reduction", {"energy", "heat_flux"}, "energy") == "heat_flux"
                               ? Reduction::kHeatFlux : Reduction::kEnergy;
-    w.finish({"method", "kappa", "max_particles", "reduction"});
+    if (w.has("split")) {
+      const Section sp = w.sub("split");
+      SplitSpec& x = c.weights.split;
+      x.on = true;
+      x.radius = sp.real("radius");
+      sp.check(x.radius > 0 && x.radius < 1e6, "radius", x.radius, "must satisfy 0 < radius < 10^6");
+      x.rate = sp.real("rate");
+      sp.check(x.rate > 0 && x.rate <= 1e3, "rate", x.rate, "must satisfy 0 < rate <= 10^3");
+      x.power = sp.real("power", 1.0);
+      sp.check(x.power >= 0.5 && x.power <= 2.0, "power", x.power,
+               "must satisfy 0.5 <= power <= 2");
+      x.interval = sp.real("interval");
+      sp.check(x.interval > 0 && x.interval <= c.t_end, "interval", x.interval,
+               "must satisfy 0 < interval <= t_end");
+      sp.finish({"radius", "rate", "power", "interval"});
+    }
+    w.finish({"method", "kappa", "max_particles", "reduction", "split"});
     // What the weighted engine (dsmc/weighted.cpp) implements; refused rather than half-done.
     if (c.scheme != Scheme::kNoSplit)
       throw ConfigError(s.name("weights") + ": method swpm supports only scheme nosplit (not " +
@@ -202,13 +218,21 @@ void emit_dsmc(YAML::Emitter& out, const DsmcConfig& c) {
       << (c.majorant_update == MajorantUpdate::kStrict ? "strict" : "paper");
   out << YAML::Key << "moments" << YAML::Value << c.moments;
   if (c.steady) out << YAML::Key << "steady_from" << YAML::Value << format_real(c.steady_from);
-  if (c.weights.swpm)  // absent for constant weights: their provenance stays as before
+  if (c.weights.swpm) {  // absent for constant weights: their provenance stays as before
     out << YAML::Key << "weights" << YAML::Value << YAML::Flow << YAML::BeginMap
         << YAML::Key << "method" << YAML::Value << "swpm"
         << YAML::Key << "kappa" << YAML::Value << format_real(c.weights.kappa)
         << YAML::Key << "max_particles" << YAML::Value << c.weights.max_particles
-        << YAML::Key << "reduction" << YAML::Value << reduction_name(c.weights.reduction)
-        << YAML::EndMap;
+        << YAML::Key << "reduction" << YAML::Value << reduction_name(c.weights.reduction);
+    if (c.weights.split.on)
+      out << YAML::Key << "split" << YAML::Value << YAML::BeginMap
+          << YAML::Key << "radius" << YAML::Value << format_real(c.weights.split.radius)
+          << YAML::Key << "rate" << YAML::Value << format_real(c.weights.split.rate)
+          << YAML::Key << "power" << YAML::Value << format_real(c.weights.split.power)
+          << YAML::Key << "interval" << YAML::Value << format_real(c.weights.split.interval)
+          << YAML::EndMap;
+    out << YAML::EndMap;
+  }
   out << YAML::EndMap;
 }
 

@@ -34,11 +34,24 @@ struct HistogramSpec {
 
 /// dsmc.weights: the stochastic weighted particle method (SWPM, Rjasanow & Wagner 1996/2005).
 enum class Reduction { kEnergy, kHeatFlux };
+/// dsmc.weights.split: importance splitting along the diffusion path (issue 11). Every `interval`
+/// all particles are kicked to the current time; one beyond `radius` from V heavier than twice
+/// its target weight w*(r) = (1/n) (r/radius)^2 exp(-rate (r^power - radius^power)) is split into equal
+/// copies, and light ones (below w*/4) play pairwise roulette within a band of w*.
+struct SplitSpec {
+  bool on = false;
+  double radius = 0.0;    ///< r_s: no splitting at |v - V| <= r_s
+  double rate = 0.0;      ///< a of the importance function
+  double power = 1.0;     ///< b of the importance function
+  double interval = 0.0;  ///< time between split sweeps
+};
+
 struct WeightsSpec {
   bool swpm = false;               ///< false: constant weights 1/n (the papers)
   double kappa = 0.0;              ///< kappa >= 0: pair rate (1 + kappa) max(g_i, g_j) B
   std::uint64_t max_particles = 0; ///< N_max: a reduction runs when the count exceeds it
   Reduction reduction = Reduction::kEnergy;
+  SplitSpec split;                 ///< dsmc.weights.split (absent: off)
 };
 
 struct DsmcConfig {

@@ -52,6 +52,9 @@ Record dsmc_layout(const Config& config) {
   if (P) r.declare_moments("moment_series", rows * P);
   if (P && d.steady) r.declare_moments("moment_steady", P);
   for (const ColumnSpec& c : kColumns) r.declare_column(c.path, c.floating);
+  // The steady-state histogram: per ensemble the time average of f_k over the steady rows, so
+  // that its confidence interval comes from independent ensembles, not from correlated rows.
+  if (d.steady && d.histogram.shells) r.declare_moments("histogram_steady", d.histogram.shells + 1);
   if (d.weights.swpm) {
     // SWPM: the histogram's weight per shell (f_k itself), beside the particle numbers above.
     if (d.histogram.shells) r.declare_moments("histogram_weight", rows * (d.histogram.shells + 1));
@@ -270,6 +273,20 @@ void run_dsmc(const Config& config, const DriverOptions& options, Record& record
       }
     }
     if (K1) record.add_counts("histogram", w.hist);
+    if (K1 && d.steady) {
+      std::vector<double> avg(K1, 0.0);
+      double steady_rows = 0.0;
+      for (std::uint64_t m = 0; m < rows; ++m) {
+        if (!(times[m] > steady_after)) continue;
+        steady_rows += 1.0;
+        for (std::uint64_t k = 0; k < K1; ++k)
+          avg[k] += w.weighted ? w.whist[m * K1 + k]
+                               : static_cast<double>(w.hist[m * K1 + k]) /
+                                     static_cast<double>(d.particles);
+      }
+      auto& hs = record.moments("histogram_steady");
+      for (std::uint64_t k = 0; k < K1; ++k) hs[k].add(avg[k] / steady_rows);
+    }
     if (w.weighted) {
       const WeightedEnsemble& we = *w.weighted;
       if (K1) {
@@ -381,6 +398,24 @@ void present_dsmc(H5Writer& out, const Config& config, const Record& record) {
     out.attr("/histogram", "description",
              std::string("f_k = fraction of particles with r_k <= |v| < r_{k+1}, r_k = k R/K "
                          "(GRW05 eq. 37); the last shell holds |v| >= R"));
+  }
+  if (d.steady && d.histogram.shells) {
+    const auto& hs = record.moments("histogram_steady");
+    std::vector<double> mean(hs.size()), ci(hs.size());
+    for (std::size_t k = 0; k < hs.size(); ++k) {
+      const MeanCi s = hs[k].stats(N);
+      mean[k] = s.mean;
+      ci[k] = s.ci;
+    }
+    std::uint64_t steady_rows = 0;
+    for (double t : times) steady_rows += t > d.steady_from + 1e-9 * d.observe_every;
+    out.write("/steady/histogram/mean", mean, {mean.size()});
+    out.write("/steady/histogram/ci", ci, {ci.size()});
+    out.attr("/steady/histogram", "rows", steady_rows);
+    out.attr("/steady/histogram", "description",
+             std::string("f_k averaged over the observation times t_m > steady_from in each "
+                         "ensemble; mean and confidence half-width over the ensembles (edges: "
+                         "/histogram/edges)"));
   }
   if (d.steady) {
     const std::uint64_t samples = record.total("steady_samples");

@@ -228,6 +228,68 @@ void reduce_particles(Particles& p, std::vector<double>& g, std::size_t target,
   }
 }
 
+// ---- Importance splitting ----
+
+namespace {
+// A particle far beyond its target would become thousands of copies at once; 16 per sweep is
+// enough when a sweep's kicks move a particle by about one e-fold of the target weight.
+constexpr double kMaxCopies = 16.0;
+}  // namespace
+
+double split_target(const SplitSpec& s, double g_ref, double r) {
+  if (r <= s.radius) return g_ref;
+  // (r/r_s)^2: a shell's volume grows as r^2, so that with exp(-rate r^power) near the true tail
+  // every shell of the tail holds about as many particles as the first.
+  const double x = r / s.radius;
+  return g_ref * x * x * std::exp(-s.rate * (std::pow(r, s.power) - std::pow(s.radius, s.power)));
+}
+
+SplitCounts split_particles(Particles& p, std::vector<double>& g, Vec3 V, const SplitSpec& s,
+                            double g_ref, Engine& eng, double scale) {
+  SplitCounts out;
+  std::vector<std::pair<std::int64_t, std::uint32_t>> light;  // (band, index)
+  const std::size_t n = p.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const double r = norm(p[i].v - V);
+    if (r <= s.radius) continue;
+    ++out.tail;
+    // Never above g_ref: roulette must not build particles heavier than the bulk's, whose
+    // noise (the SWPM's O(1/n_eff) bias) would reach every moment.
+    const double target = std::min(scale * split_target(s, g_ref, r), g_ref);
+    if (g[i] > 2.0 * target) {
+      const double k = std::min(std::floor(g[i] / target), kMaxCopies);
+      const double each = g[i] / k;
+      const auto copies = static_cast<std::size_t>(k) - 1;
+      for (std::size_t c = 0; c < copies; ++c) {
+        p.push_back(p[i]);
+        g.push_back(each);
+      }
+      g[i] -= static_cast<double>(copies) * each;  // the sum stays g[i] to round-off
+      out.copies += copies;
+      out.tail += copies;
+    } else if (g[i] < 0.25 * target) {
+      light.push_back({static_cast<std::int64_t>(std::floor(std::log(g_ref / target))),
+                       static_cast<std::uint32_t>(i)});
+    }
+  }
+  std::sort(light.begin(), light.end());
+  for (std::size_t k = 0; k + 1 < light.size(); k += 2) {
+    if (light[k].first != light[k + 1].first) {  // alone in its band: waits for the next sweep
+      --k;
+      continue;
+    }
+    const std::uint32_t a = light[k].second, b = light[k + 1].second;
+    const double sum = g[a] + g[b];
+    const bool keep_a = uniform01(eng) * sum < g[a];
+    g[keep_a ? a : b] = sum;
+    g[keep_a ? b : a] = 0.0;
+    ++out.removed;
+    --out.tail;
+  }
+  if (out.removed) compact(p, g);
+  return out;
+}
+
 // ---- The weighted ensemble ----
 
 WeightedEnsemble::WeightedEnsemble(const DsmcConfig& config, std::uint64_t seed,
@@ -241,6 +303,7 @@ WeightedEnsemble::WeightedEnsemble(const DsmcConfig& config, std::uint64_t seed,
       pairs_(make_stream(seed, ensemble, Consumer::kPairs)),
       sweep_(make_stream(seed, ensemble, Consumer::kSweep)),
       reduce_(make_stream(seed, ensemble, Consumer::kReduce)),
+      split_(make_stream(seed, ensemble, Consumer::kSplit)),
       progress_(progress) {
   Engine init = make_stream(seed, ensemble, Consumer::kInitial);
   const double sd = std::sqrt(c_.initial_temperature);
@@ -284,6 +347,38 @@ void WeightedEnsemble::kick_all_to(double s) {
   }
 }
 
+void WeightedEnsemble::reduce_to_cap() {
+  if (p_.size() <= c_.weights.max_particles) return;
+  kick_all_to(t_);  // a group is merged at one time
+  reduce_particles(p_, g_,
+                   static_cast<std::size_t>(kReduceTo * static_cast<double>(c_.weights.max_particles)),
+                   c_.weights.reduction, reduce_);
+  ++reductions_;
+}
+
+void WeightedEnsemble::split_sweep() {
+  // Kicking everyone to t_ does not change the law (Gaussian kicks compose); it gives every
+  // particle its current velocity, so the decision follows the diffusion path.
+  kick_all_to(t_);
+  const double g_ref = 1.0 / static_cast<double>(c_.particles);
+  SplitCounts c = split_particles(p_, g_, v0_, c_.weights.split, g_ref, split_, split_scale_);
+  ++splits_;
+  // Population control by roulette, which is unbiased: an importance function steeper than the
+  // true tail would crowd it, the reduction would then merge the bulk into a few heavy particles
+  // (biasing everything by O(1/n_eff)) and tail particles in coarse cells. Raising the tail's
+  // targets until it holds at most half of N_max thins it at once; they relax when it is sparse.
+  const double cap = static_cast<double>(c_.weights.max_particles);
+  while (static_cast<double>(c.tail) > 0.5 * cap && split_scale_ < 0x1p60) {
+    split_scale_ *= 2.0;
+    c = split_particles(p_, g_, v0_, c_.weights.split, g_ref, split_, split_scale_);
+  }
+  if (static_cast<double>(c.tail) < 0.125 * cap && split_scale_ > 1.0) split_scale_ *= 0.5;
+  reduce_to_cap();
+  rebuild_tree();
+  if (c_.kernel.lambda != 0.0)
+    for (const auto& q : p_) adapt_majorant(q.v);
+}
+
 bool WeightedEnsemble::advance_to(double s, const std::atomic<bool>* pause) {
   const double alpha = c_.alpha, beta = c_.beta, kappa = c_.weights.kappa;
   const bool maxwell = c_.kernel.lambda == 0.0;
@@ -301,6 +396,16 @@ bool WeightedEnsemble::advance_to(double s, const std::atomic<bool>* pause) {
     const double n = static_cast<double>(p_.size()), G = tree_.total();
     const double rate = K * c_.kernel.power(u_max_) * (n - 1.0) * G;
     const double tau = exponential(events_) / rate;
+    if (c_.weights.split.on) {
+      // A sweep changes n and so the rate: the waiting time is drawn afresh after it (the
+      // majorant process is memoryless).
+      const double next = static_cast<double>(splits_ + 1) * c_.weights.split.interval;
+      if (next < s && t_ + tau >= next) {
+        t_ = next;
+        split_sweep();
+        continue;
+      }
+    }
     if (t_ + tau >= s) break;
     t_ += tau;
     const std::size_t i = tree_.find(uniform01(pairs_) * G);
@@ -329,13 +434,10 @@ bool WeightedEnsemble::advance_to(double s, const std::atomic<bool>* pause) {
       }
       ++counts_.collisions;
       if (p_.size() > c_.weights.max_particles) {
-        kick_all_to(t_);  // a group is merged at one time
-        reduce_particles(p_, g_, static_cast<std::size_t>(kReduceTo * static_cast<double>(c_.weights.max_particles)),
-                         c_.weights.reduction, reduce_);
+        reduce_to_cap();
         rebuild_tree();
         if (!maxwell)
           for (const auto& q : p_) adapt_majorant(q.v);
-        ++reductions_;
       }
     } else {
       ++counts_.fictitious;
@@ -353,15 +455,17 @@ bool WeightedEnsemble::advance_to(double s, const std::atomic<bool>* pause) {
 
 void WeightedEnsemble::save(H5Writer& out, const std::string& g) const {
   write_particles(out, g + "/weighted_particles", p_, &g_);
-  out.write(g + "/scalars", std::vector<double>{t_, v0_.x, v0_.y, v0_.z, u_max_}, {5});
+  out.write(g + "/scalars", std::vector<double>{t_, v0_.x, v0_.y, v0_.z, u_max_, split_scale_},
+            {6});
   write_engine(out, g + "/events_stream", events_);
   write_engine(out, g + "/pairs_stream", pairs_);
   write_engine(out, g + "/sweep_stream", sweep_);
   write_engine(out, g + "/reduce_stream", reduce_);
+  write_engine(out, g + "/split_stream", split_);
   out.write(g + "/counters",
             std::vector<std::uint64_t>{counts_.collisions, counts_.fictitious, counts_.kicks,
-                                       reductions_},
-            {4});
+                                       reductions_, splits_},
+            {5});
 }
 
 WeightedEnsemble::WeightedEnsemble(const DsmcConfig& config, const H5Reader& in,
@@ -373,19 +477,22 @@ WeightedEnsemble::WeightedEnsemble(const DsmcConfig& config, const H5Reader& in,
       pairs_(read_engine(in, g + "/pairs_stream")),
       sweep_(read_engine(in, g + "/sweep_stream")),
       reduce_(read_engine(in, g + "/reduce_stream")),
+      split_(read_engine(in, g + "/split_stream")),
       progress_(progress) {
   const bool rows = read_particles(in, g + "/weighted_particles", p_, &g_);
   const auto scalars = in.read_double(g + "/scalars");
   const auto counters = in.read_uint64(g + "/counters");
   const std::size_t n = p_.size();
-  if (!rows || n < 2 || n > config.weights.max_particles || scalars.size() != 5 ||
-      counters.size() != 4 || !std::all_of(g_.begin(), g_.end(), [](double w) { return w > 0.0; }))
+  if (!rows || n < 2 || n > config.weights.max_particles || scalars.size() != 6 ||
+      counters.size() != 5 || !std::all_of(g_.begin(), g_.end(), [](double w) { return w > 0.0; }))
     throw std::runtime_error(in.path() + ": malformed weighted ensemble state " + g);
   t_ = scalars[0];
   v0_ = {scalars[1], scalars[2], scalars[3]};
   u_max_ = scalars[4];
+  split_scale_ = scalars[5];
   counts_ = {counters[0], counters[1], counters[2]};
   reductions_ = counters[3];
+  splits_ = counters[4];
   rebuild_tree();
 }
 

@@ -69,6 +69,28 @@ void merge_group(Particles& p, std::vector<double>& g, std::span<const std::uint
 void reduce_particles(Particles& p, std::vector<double>& g, std::size_t target,
                       Reduction reduction, Engine& eng);
 
+/// What one split sweep did: particles added as copies, particles removed by roulette.
+struct SplitCounts {
+  std::uint64_t copies = 0;
+  std::uint64_t removed = 0;
+  std::uint64_t tail = 0;  ///< particles beyond the radius afterwards
+};
+
+/// The target weight of a particle at distance r from V (dsmc.weights.split):
+/// w*(r) = g_ref (r/radius)^2 exp(-rate (r^power - radius^power)) beyond radius, g_ref within.
+double split_target(const SplitSpec& s, double g_ref, double r);
+
+/// One sweep of importance splitting and roulette on particles all kicked to one time, with the
+/// targets beyond s.radius scaled by `scale` >= 1 (population control). A
+/// particle beyond s.radius from V with g > 2 w*(r) becomes k = min(floor(g/w*), 16) copies of
+/// equal weight (the same velocity; they part at their next kicks). Particles lighter than w*/4
+/// are grouped by floor(ln(g_ref/w*)) (bands of a factor e in w*), and consecutive ones in a
+/// band play pairwise roulette: one, chosen with probability proportional to its weight, takes
+/// both weights. Splitting keeps every moment; roulette keeps the mass exactly and the other
+/// moments in expectation. Zero-weight slots are removed.
+SplitCounts split_particles(Particles& p, std::vector<double>& g, Vec3 V, const SplitSpec& s,
+                            double g_ref, Engine& eng, double scale = 1.0);
+
 class WeightedEnsemble {
  public:
   /// The initial Maxwellian with n = dsmc.particles particles of weight 1/n.
@@ -88,11 +110,14 @@ class WeightedEnsemble {
   double u_max() const { return u_max_; }
   const EventCounts& counts() const { return counts_; }
   std::uint64_t reductions() const { return reductions_; }
+  std::uint64_t split_sweeps() const { return splits_; }
 
  private:
   void rebuild_tree();
   void adapt_majorant(const Vec3& v);
   void kick_all_to(double s);
+  void reduce_to_cap();
+  void split_sweep();
 
   const DsmcConfig& c_;
   Particles p_;
@@ -103,9 +128,11 @@ class WeightedEnsemble {
   double u_max_ = 0.0;
   double adapt_factor2_;
   bool heated_;
-  Engine events_, pairs_, sweep_, reduce_;
+  Engine events_, pairs_, sweep_, reduce_, split_;
   EventCounts counts_;
   std::uint64_t reductions_ = 0;
+  std::uint64_t splits_ = 0;  // split sweeps done: the next is at (splits_ + 1) * interval
+  double split_scale_ = 1.0;  // the tail's target weights are scaled by this (population control)
   ProgressSlot* progress_;
 };
 

@@ -64,6 +64,7 @@ enum class Consumer : std::uint64_t {
   kPairs = 3,     ///< indices of collision partners (drawn ahead so they can be prefetched)
   kSweep = 4,     ///< kicks of all particles (observations, splitting kick steps)
   kReduce = 5,    ///< SWPM reduction: merge directions (dsmc.weights)
+  kSplit = 6,     ///< SWPM importance splitting: roulette draws (dsmc.weights.split)
   kIntruder = 16, ///< TV06 intruder events
   kBath = 17,     ///< TV06 DSMC bath
   kNeedle = 18,   ///< TV06 needle events

@@ -31,17 +31,25 @@ Z = 3.2
 _NODES, _WEIGHTS = np.polynomial.legendre.leggauss(12)
 
 
-def shells_from_h5(path, row=-1):
+def shells_from_h5(path, row=-1, steady=False):
     """Shell data of a granboltz run at observation `row` (docs/output.md /histogram): dict edges
     [K+1], frac [K] (fraction per shell, overflow dropped), se [K] (= ci / lambda_p), counts [K]
-    (all ensembles), N, n."""
+    (all ensembles), N, n.  steady=True: the steady-state histogram /steady/histogram instead (each
+    ensemble's time average over t_m > steady_from), counts summed over those times."""
     with h5py.File(path, "r") as f:
         lam = float(f.attrs["confidence_lambda_p"])
         config = f.attrs["config"]
         config = yaml.safe_load(config.decode() if isinstance(config, bytes) else str(config))
-        return {"edges": f["histogram/edges"][()], "frac": f["histogram/mean"][row, :-1],
-                "se": f["histogram/ci"][row, :-1] / lam, "counts": f["histogram/counts"][row, :-1],
-                "N": int(f.attrs["ensembles"]), "n": int(config["dsmc"]["particles"])}
+        out = {"edges": f["histogram/edges"][()], "N": int(f.attrs["ensembles"]), "n": int(config["dsmc"]["particles"])}
+        if steady:
+            if "steady/histogram" not in f:
+                raise KeyError(f"{path}: no /steady/histogram (the run has no dsmc.steady_from)")
+            t, start = f["time"][()], float(config["dsmc"]["steady_from"])
+            rows = t > start + 1e-9 * float(config["dsmc"]["observe_every"])
+            return {**out, "frac": f["steady/histogram/mean"][:-1], "se": f["steady/histogram/ci"][:-1] / lam,
+                    "counts": f["histogram/counts"][rows, :-1].sum(axis=0)}
+        return {**out, "frac": f["histogram/mean"][row, :-1], "se": f["histogram/ci"][row, :-1] / lam,
+                "counts": f["histogram/counts"][row, :-1]}
 
 
 def shells_from_ensembles(edges, counts):
