@@ -1,19 +1,20 @@
 #!/usr/bin/python3
-"""Tail depth per CPU time: constant weights against SWPM (issue 11, item 4; `make bench`).
+"""Tail depth per CPU time: constant weights against SWPM with importance splitting (issue 11,
+item 4; `make bench`).
 
-For GRW05 Examples 7-9 (final state of the steady runs), runs the simulator once with constant
-weights and once per SWPM setting, and reports the CPU seconds (user + system of the simulator)
-and the depth reached: the smallest f(r)/f(0) of a shell whose relative confidence half-width is
-below 30 % (granboltz.tail_swpm.resolved_depth), with log10(depth) per CPU minute.
+For GRW05 Examples 7-9 in their steady state (run to 2 t_end, histogram averaged in each ensemble
+over 20 times in (t_end, 2 t_end], as the workflow's SWPM runs), runs the simulator once with
+constant weights and once per SWPM setting, and reports the CPU seconds (user + system of the
+simulator) and the depth reached: the smallest f(r)/f(0) of a shell whose relative confidence
+half-width is below 30 % (granboltz.tail_swpm.resolved_depth), with decades of depth per CPU minute.
+The SWPM runs split along the diffusion path (dsmc.weights.split) with the theory tail as
+importance function and the workflow's r_s (config/paper.yaml grw05.tails.swpm).
 
     bench/tail_depth.py [--granboltz build/granboltz] [--examples 7 8 9] [--csv out.csv]
-                        [--constant n:N ...] [--swpm kappa:max_particles:n:N ...]
-
-Defaults: settings of about equal cost per example (2-3 CPU seconds each; measured on 2026-11-30:
-constant weights n = 1e5, N = 16 reach 4e-5 (Ex. 7), 6e-5 (8), 4e-5 (9) in 1.5-1.9 s; SWPM kappa =
-0.25, N_max = 2000, n = 1000, N = 16 reach 6e-2, 5e-2, 5e-2 in 3.1, 2.5, 1.8 s).
+                        [--constant n:N ...] [--swpm kappa:max_particles:n:N ...] [--no-split]
 """
 import argparse
+import math
 import os
 import pathlib
 import resource
@@ -28,16 +29,27 @@ sys.path.insert(0, str(ROOT / "src" / "python"))
 
 from granboltz.local_exponent import shells_from_h5  # noqa: E402
 from granboltz.tail_swpm import resolved_depth  # noqa: E402
+from granboltz.tail_theory import fast_particle_rate, tail_amplitude, tail_exponent  # noqa: E402
 
-# GRW05 §5.3: lambda, t_end (steady state), histogram radius R (128 shells, as the constant-weight runs)
-EXAMPLES = {7: (0.0, 2.5, 40.0), 8: (1.0, 0.25, 16.0), 9: (0.5, 0.5, 24.0)}
+# GRW05 §5.3: lambda, t_end (the paper's), histogram radius R (128 shells) and split radius r_s of
+# config/paper.yaml grw05.tails.swpm
+EXAMPLES = {7: (0.0, 2.5, 130.0, 16.0), 8: (1.0, 0.25, 34.0, 7.5), 9: (0.5, 0.5, 60.0, 10.0)}
+BETA, GAMMA, C = 30.0, 16.0, 0.07957747154594767
+ROWS = 20
+
+
+def split_of(example):
+    """dsmc.weights.split as the workflow sets it (workflow/rules/grw05_swpm.smk)."""
+    lam, _, radius, r_s = EXAMPLES[example]
+    a, b = tail_amplitude(fast_particle_rate(GAMMA, math.pi * C), BETA, lam), tail_exponent(lam)
+    return {"radius": r_s, "rate": a, "power": b, "interval": 1.0 / (8.0 * BETA * (a * b * radius ** (b - 1)) ** 2)}
 
 
 def run_config(example, n, N, seed, weights=None):
-    lam, t_end, radius = EXAMPLES[example]
-    d = {"particles": n, "scheme": "nosplit", "alpha": 0.1, "beta": 30.0, "gamma": 16.0,
-         "kernel": {"lambda": lam, "C": 0.07957747154594767}, "initial": {"temperature": 1.0},
-         "t_end": t_end, "observe_every": t_end, "majorant_update": "paper",
+    lam, t_end, radius, _ = EXAMPLES[example]
+    d = {"particles": n, "scheme": "nosplit", "alpha": 0.1, "beta": BETA, "gamma": GAMMA,
+         "kernel": {"lambda": lam, "C": C}, "initial": {"temperature": 1.0},
+         "t_end": 2 * t_end, "observe_every": t_end / ROWS, "steady_from": t_end, "majorant_update": "paper",
          "histogram": {"shells": 128, "radius": radius}}
     if weights:
         d["weights"] = weights
@@ -55,7 +67,7 @@ def measure(granboltz, config, threads=1):
                        stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         after = resource.getrusage(resource.RUSAGE_CHILDREN)
         cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-        depth, r = resolved_depth(shells_from_h5(out))
+        depth, r = resolved_depth(shells_from_h5(out, steady=True))
     return cpu, depth, r
 
 
@@ -66,6 +78,7 @@ def main():
     p.add_argument("--constant", nargs="*", default=["100000:16"], help="n:N of constant-weight runs")
     p.add_argument("--swpm", nargs="*", default=["0.25:2000:1000:16"], help="kappa:max_particles:n:N")
     p.add_argument("--reduction", default="energy")
+    p.add_argument("--no-split", action="store_true", help="SWPM without importance splitting")
     p.add_argument("--seed", type=int, default=20260101)
     p.add_argument("--csv")
     a = p.parse_args()
@@ -76,10 +89,12 @@ def main():
         for s in a.swpm:
             kappa, nmax, n, N = s.split(":")
             w = {"method": "swpm", "kappa": float(kappa), "max_particles": int(nmax), "reduction": a.reduction}
-            runs.append(("swpm", f"kappa={kappa} N_max={nmax} n={n}", run_config(ex, int(n), int(N), a.seed, w)))
+            if not a.no_split:
+                w["split"] = split_of(ex)
+            what = f"kappa={kappa} N_max={nmax} n={n}" + ("" if a.no_split else " split")
+            runs.append(("swpm", what, run_config(ex, int(n), int(N), a.seed, w)))
         for method, what, config in runs:
             cpu, depth, r = measure(a.granboltz, config)
-            import math
             per_min = -math.log10(depth) / (cpu / 60) if depth == depth and depth > 0 else float("nan")
             rows.append({"example": ex, "method": method, "setting": what, "N": config["ensembles"],
                          "cpu_s": round(cpu, 2), "depth": f"{depth:.2e}", "r_depth": round(r, 2),
