@@ -115,13 +115,13 @@ def swpm_tail_summary(shells, example, local, max_rel_ci=0.3, constant=None):
     return {k: int(v) if k == "example" else float(v) for k, v in out.items()}, curve
 
 
-def swpm_verdict(s, b_tol=0.03, ci_max=0.03, a_rel=0.05):
-    """(reached, text): the issue-11 goal (|b - theory| <= b_tol with half-width <= ci_max, and a
-    within a_rel of theory) and how far the run got."""
+def swpm_verdict(s, b_tol=0.03, ci_max=0.03, a_rel=0.05, depth_goal=1e-30):
+    """(reached, text): the issue-11 goal (the tail resolved to f/f(0) <= depth_goal, |b - theory| <=
+    b_tol with half-width <= ci_max, and a within a_rel of theory) and how far the run got."""
     db, da = s["b_swpm"] - s["theory_b"], s["a_swpm"] / s["a_theory"] - 1
-    ok = abs(db) <= b_tol and s["b_swpm_ci"] <= ci_max and abs(da) <= a_rel
+    ok = abs(db) <= b_tol and s["b_swpm_ci"] <= ci_max and abs(da) <= a_rel and s["depth_swpm"] <= depth_goal
     depth = (f"resolved to f/f(0) = {s['depth_swpm']:.1e} (constant weights {s['depth_constant']:.1e}; "
-             "goal 1e-30)")
+             f"goal {depth_goal:.0e})")
     if not np.isfinite(s["b_swpm"]):
         if s["fit_r_hi"] > s["fit_r_lo"]:  # a resolved tail, but (a, b, chi) together did not converge
             return False, (f"differs from the goal (b within {b_tol:g} of {s['theory_b']:g}): {depth}; on the "
