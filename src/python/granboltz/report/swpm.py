@@ -35,6 +35,14 @@ WHY = ("**Why splitting, and why along the path.** SWPM by itself splits weight 
        "reduction merges the bulk into a few heavy particles and biases every moment (measured: M_10 −34 %).")
 
 
+def _fixed(x, ci, decimals=3):
+    """'x ± ci' with both to `decimals` decimals (b and a are compared at 0.03 and 5 %); pm() if
+    either is missing."""
+    if x == x and ci == ci:
+        return f"{x:.{decimals}f} ± {ci:.{decimals}f}"
+    return pm(x, ci, 3)
+
+
 def swpm_section(items, data, item_blocks):
     """The section "Weighted particles": intro, the table of b, a and the depth of each example from
     the figure summaries, every item registered under that name; returns (blocks, summary rows)."""
@@ -47,8 +55,8 @@ def swpm_section(items, data, item_blocks):
         if not s:
             continue
         ok, _ = swpm_verdict(s)
-        rows.append([f"Ex. {s['example']}", num(s["theory_b"]), pm(s["b_swpm"], s["b_swpm_ci"], 3),
-                     num(s["a_theory"], 3), pm(s["a_swpm"], s["a_swpm_ci"], 3),
+        rows.append([f"Ex. {s['example']}", num(s["theory_b"]), _fixed(s["b_swpm"], s["b_swpm_ci"]),
+                     num(s["a_theory"], 3), _fixed(s["a_swpm"], s["a_swpm_ci"]),
                      f"{100 * (s['a_swpm'] / s['a_theory'] - 1):+.0f} %" if s["a_swpm"] == s["a_swpm"] else DASH,
                      f"{s['depth_swpm']:.1e}",
                      f"{s['depth_constant']:.1e}" if s["depth_constant"] == s["depth_constant"] else DASH,
