@@ -335,6 +335,10 @@ TEST(WeightedSplit, CopiesKeepEveryMomentAndRouletteKeepsTheMass) {
   EXPECT_NEAR(after.mass, before.mass, roundoff(before.mass, p.size()));
   EXPECT_EQ(p[0].v.x, 0.5);  // the particle inside the radius kept its place and weight
   EXPECT_EQ(g[0], 1e-9);
+  SplitSpec capped = spec;  // beyond max_radius the target is frozen
+  capped.max_radius = 5.0;
+  EXPECT_EQ(split_target(capped, g_ref, 9.0), split_target(spec, g_ref, 5.0));
+  EXPECT_EQ(split_target(capped, g_ref, 4.0), split_target(spec, g_ref, 4.0));
 }
 
 TEST(WeightedSplit, RouletteIsUnbiased) {
@@ -459,6 +463,10 @@ TEST(WeightedConfig, BadWeightsKeysGiveOneLineErrors) {
   split[split.size() - 2] = "dsmc.weights.split.rate=1";
   EXPECT_NE(with(split).find("dsmc.weights.split.interval = 2"), std::string::npos);
   split.back() = "dsmc.weights.split.interval=0.1";
+  EXPECT_EQ(with(split), "");
+  split.push_back("dsmc.weights.split.max_radius=3");  // not beyond radius = 3
+  EXPECT_NE(with(split).find("dsmc.weights.split.max_radius = 3"), std::string::npos);
+  split.back() = "dsmc.weights.split.max_radius=30";
   EXPECT_EQ(with(split), "");
   split.push_back("dsmc.weights.split.every=1");
   EXPECT_NE(with(split).find("every"), std::string::npos) << with(split);

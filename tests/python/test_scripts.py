@@ -205,6 +205,19 @@ def test_tail_exponent_script_recovers_b(run_script, tmp_path):
                    params={"tails": tails, "example": ex})
         assert _is_png(tmp_path / f"swpm{ex}.png", 5_000)
         swpm.append(names["summary"])
+    # the importance check: two runs of one steady histogram agree; a steeper tail in the check differs
+    for b_check, agrees in ((1.0, True), (2.0, False)):
+        check = [str(write_fake_histogram_run(tmp_path / f"c{b_check}.h5", b=b_check, steady=True))]
+        names = {k: str(tmp_path / f"check{b_check}.{k}") for k in ("png", "pdf")}
+        names["summary"] = str(tmp_path / f"check{b_check}.json")
+        split = {"radius": 4.0, "rate": 0.5, "power": 1.0, "interval": 0.01, "max_radius": 40.0}
+        run_script("tail_swpm_check.py", input={"theory": [str(tmp_path / "s7.h5")], "check": check}, output=names,
+                   params={"tails": tails, "example": 7, "theory_split": split,
+                           "check_split": {**split, "power": 1.25}})
+        assert _is_png(tmp_path / f"check{b_check}.png", 5_000)
+        with open(names["summary"]) as f:
+            summary = json.load(f)
+        assert summary["numbers"]["reached"] is agrees, summary["ours"]
     run_script("tail_exponents.py", input={**runs, "local": local, "swpm": swpm},
                output={"csv": str(out), "windows": str(windows)}, params={"tails": tails})
     rows = _rows(out)

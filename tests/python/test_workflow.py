@@ -32,7 +32,7 @@ ITEM_RULES = [
     "grw05_ex7_moments", "grw05_tail_local_ex7", "grw05_tail_local_ex8", "grw05_tail_local_ex9", "rw05_moments",
     "beyond_haff", "beyond_a2", "beyond_tail",
     # issue 11: weighted particles
-    "grw05_tail_swpm_ex7", "grw05_tail_swpm_ex8", "grw05_tail_swpm_ex9",
+    "grw05_tail_swpm_ex7", "grw05_tail_swpm_ex8", "grw05_tail_swpm_ex9", "grw05_tail_swpm_check",
 ]
 
 
@@ -69,7 +69,8 @@ def test_dry_run_plans_every_job(profile):
     assert counts.pop("grw05_shard", 0) == sum(k * shards[ex] for ex, k in grw05.items() if shards[ex] > 1)
     assert counts.pop("grw05_merge", 0) == sum(k for ex, k in grw05.items() if shards[ex] > 1)
     assert counts.pop("rw05_run") == counts.pop("rw05_run_config") == rw05
-    assert counts.pop("grw05_swpm_run") == counts.pop("grw05_swpm_run_config") == 3  # issue 11: Examples 7-9
+    # issue 11: Examples 7-9 and the importance check
+    assert counts.pop("grw05_swpm_run") == counts.pop("grw05_swpm_run_config") == 4
     assert counts.pop("tv06_run") == counts.pop("tv06_run_config") == expected_tv06_runs(config)
     b = config["beyond"]  # issue 14: 2 Haff runs, 2 thermostats x 2 kernels x alphas, the tail run if its own
     beyond = 2 + 4 * len(b["a2"]["alphas"]) + (b["tail"]["ensembles"] != b["a2"]["ensembles"])

@@ -13,6 +13,9 @@ Items:     figures grw05_tail_swpm_ex{7,8,9} (ln f against r for both methods, b
 SWPM = GRW05["tails"]["swpm"]
 SWPM_PAPER = "Weighted particles"
 SWPM_EXAMPLES = ("ex7", "ex8", "ex9")
+# The importance check: the same example again with an importance function of another shape.
+SWPM_CHECK = SWPM["check"]["example"] + "_check"
+SWPM_RUNS = SWPM_EXAMPLES + (SWPM_CHECK,)
 
 
 def grw05_swpm_runs(ex):
@@ -20,30 +23,34 @@ def grw05_swpm_runs(ex):
     return expand("results/grw05_swpm/{ex}/N={N}/n={n}/run.h5", ex=ex, N=SWPM["ensembles"], n=SWPM["particles"])
 
 
-def grw05_swpm_split(ex):
+def grw05_swpm_split(ex, power=None):
     """dsmc.weights.split of experiment `ex`: the importance function exp(-a r^b) of the theory tail
     (GRW05 eq. 38 to leading order; it sets the variance, not the mean: docs/config.md), and sweeps
     whose kicks move a particle by half an e-fold of it at the histogram radius R,
-    h = 1/(8 beta s^2), s = a b R^(b-1)."""
+    h = 1/(8 beta s^2), s = a b R^(b-1) (the theory's s, also for the check); no splitting beyond R.  power: the importance
+    check's exp(-a' r^power) instead, a' = a R^b / R^power (the same decay at R, another shape)."""
     from granboltz.tail_theory import fast_particle_rate, tail_amplitude, tail_exponent
 
     e = GRW05[ex]
-    lam, beta = float(e["kernel"]["lambda"]), float(e["beta"])
+    lam, beta, R = float(e["kernel"]["lambda"]), float(e["beta"]), float(SWPM["radius"][ex])
     nu = fast_particle_rate(float(e["gamma"]), math.pi * float(e["kernel"]["C"]))
     a, b = tail_amplitude(nu, beta, lam), tail_exponent(lam)
-    slope = a * b * float(SWPM["radius"][ex]) ** (b - 1)
-    return {"radius": float(SWPM["split_radius"][ex]), "rate": a, "power": b,
-            "interval": 1.0 / (8.0 * beta * slope**2)}
+    slope = a * b * R ** (b - 1)
+    rate, shape = (a, b) if power is None else (a * R**b / R ** float(power), float(power))
+    return {"radius": float(SWPM["split_radius"][ex]), "rate": rate, "power": shape,
+            "interval": 1.0 / (8.0 * beta * slope**2), "max_radius": R}
 
 
 def grw05_swpm_run_config(wildcards):
     """Run config of results/grw05_swpm/{ex}/N={N}/n={n}: the experiment's physics run to
     `duration` t_end, observed `rows` times in the steady window (t_end, duration t_end], the SWPM
     weights with importance splitting, and the wide histogram."""
-    e = GRW05[wildcards.ex]
+    ex = wildcards.ex.removesuffix("_check")
+    e = GRW05[ex]
+    power = SWPM["check"]["power"] if wildcards.ex == SWPM_CHECK else None
     weights = {"method": "swpm", "kappa": SWPM["kappa"], "max_particles": int(SWPM["max_particles"]),
-               "reduction": SWPM["reduction"], "split": grw05_swpm_split(wildcards.ex)}
-    histogram = {"shells": int(e["histogram"]["shells"]), "radius": float(SWPM["radius"][wildcards.ex])}
+               "reduction": SWPM["reduction"], "split": grw05_swpm_split(ex, power)}
+    histogram = {"shells": int(e["histogram"]["shells"]), "radius": float(SWPM["radius"][ex])}
     label = f"grw05_swpm/{wildcards.ex}/n={wildcards.n}"
     t_end = float(e["t_end"])
     window = (float(SWPM["duration"]) - 1.0) * t_end
@@ -67,7 +74,7 @@ rule grw05_swpm_run_config:
     log:
         "logs/grw05_swpm/{ex}/N={N}/n={n}/run_config.log",
     wildcard_constraints:
-        ex=_one_of(SWPM_EXAMPLES),
+        ex=_one_of(SWPM_RUNS),
     params:
         run=grw05_swpm_run_config,
     script:
@@ -85,7 +92,7 @@ rule grw05_swpm_run:
     benchmark:
         "benchmarks/grw05_swpm/{ex}/N={N}/n={n}/run.tsv"
     wildcard_constraints:
-        ex=_one_of(SWPM_EXAMPLES),
+        ex=_one_of(SWPM_RUNS),
     threads: run_threads
     resources:
         mem_mb=swpm_mem_mb,
@@ -124,3 +131,35 @@ for _ex, _b in (("ex7", "1"), ("ex8", "1.5"), ("ex9", "1.25")):
                 f"(not in the paper; issue 11, GRW05 Remark 10) ln f against r with weighted particles (SWPM) and "
                 f"constant weights, and b(r) of both against theory b = {_b}", runs=_rule.input.swpm,
                 run_rule=rules.grw05_swpm_run, summary=_rule.output.summary)
+
+
+# The importance check (docs/config.md: the importance function sets the variance, not the mean):
+# b, a and the depth of the same example with the theory importance and with another shape.
+rule grw05_tail_swpm_check:
+    input:
+        theory=grw05_swpm_runs(SWPM["check"]["example"]),
+        check=grw05_swpm_runs(SWPM_CHECK),
+    output:
+        png=report("figures/grw05_tail_swpm_check.png", caption="../report/grw05_tail_swpm.rst",
+                   category="Weighted particles"),
+        pdf="figures/grw05_tail_swpm_check.pdf",
+        summary="results/figures/grw05_tail_swpm_check.json",
+    log:
+        "logs/figures/grw05_tail_swpm_check.log",
+    benchmark:
+        "benchmarks/figures/grw05_tail_swpm_check.tsv"
+    params:
+        tails=GRW05["tails"],
+        example=int(SWPM["check"]["example"][2:]),
+        theory_split=grw05_swpm_split(SWPM["check"]["example"]),
+        check_split=grw05_swpm_split(SWPM["check"]["example"], SWPM["check"]["power"]),
+    script:
+        "../scripts/tail_swpm_check.py"
+
+
+report_item(SWPM_PAPER, "Importance check", rules.grw05_tail_swpm_check, "figure",
+            rules.grw05_tail_swpm_check.output.png,
+            f"(not in the paper; issue 11) Example {SWPM['check']['example'][2:]} with an importance function of "
+            f"another shape (r^{SWPM['check']['power']:g} instead of the theory's): b and a must not depend on it",
+            runs=rules.grw05_tail_swpm_check.input.check, run_rule=rules.grw05_swpm_run,
+            summary=rules.grw05_tail_swpm_check.output.summary)

@@ -168,7 +168,12 @@ DsmcConfig read_dsmc(const Section& s) {
       x.interval = sp.real("interval");
       sp.check(x.interval > 0 && x.interval <= c.t_end, "interval", x.interval,
                "must satisfy 0 < interval <= t_end");
-      sp.finish({"radius", "rate", "power", "interval"});
+      if (sp.has("max_radius")) {
+        x.max_radius = sp.real("max_radius");
+        sp.check(x.max_radius > x.radius, "max_radius", x.max_radius,
+                 "must be greater than radius = " + format_real(x.radius));
+      }
+      sp.finish({"radius", "rate", "power", "interval", "max_radius"});
     }
     w.finish({"method", "kappa", "max_particles", "reduction", "split"});
     // What the weighted engine (dsmc/weighted.cpp) implements; refused rather than half-done.
@@ -224,13 +229,16 @@ void emit_dsmc(YAML::Emitter& out, const DsmcConfig& c) {
         << YAML::Key << "kappa" << YAML::Value << format_real(c.weights.kappa)
         << YAML::Key << "max_particles" << YAML::Value << c.weights.max_particles
         << YAML::Key << "reduction" << YAML::Value << reduction_name(c.weights.reduction);
-    if (c.weights.split.on)
+    if (const SplitSpec& x = c.weights.split; x.on) {
       out << YAML::Key << "split" << YAML::Value << YAML::BeginMap
-          << YAML::Key << "radius" << YAML::Value << format_real(c.weights.split.radius)
-          << YAML::Key << "rate" << YAML::Value << format_real(c.weights.split.rate)
-          << YAML::Key << "power" << YAML::Value << format_real(c.weights.split.power)
-          << YAML::Key << "interval" << YAML::Value << format_real(c.weights.split.interval)
-          << YAML::EndMap;
+          << YAML::Key << "radius" << YAML::Value << format_real(x.radius)
+          << YAML::Key << "rate" << YAML::Value << format_real(x.rate)
+          << YAML::Key << "power" << YAML::Value << format_real(x.power)
+          << YAML::Key << "interval" << YAML::Value << format_real(x.interval);
+      if (std::isfinite(x.max_radius))
+        out << YAML::Key << "max_radius" << YAML::Value << format_real(x.max_radius);
+      out << YAML::EndMap;
+    }
     out << YAML::EndMap;
   }
   out << YAML::EndMap;

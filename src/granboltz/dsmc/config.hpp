@@ -1,6 +1,7 @@
 #pragma once
 // The `dsmc:` section of a run config: GRW05 / RW05 parameters.
 #include <cstdint>
+#include <limits>
 #include <string>
 
 #include "granboltz/physics/kernel.hpp"
@@ -44,6 +45,7 @@ struct SplitSpec {
   double rate = 0.0;      ///< a of the importance function
   double power = 1.0;     ///< b of the importance function
   double interval = 0.0;  ///< time between split sweeps
+  double max_radius = std::numeric_limits<double>::infinity();  ///< w* is frozen beyond it
 };
 
 struct WeightsSpec {

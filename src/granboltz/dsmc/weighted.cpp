@@ -238,6 +238,9 @@ constexpr double kMaxCopies = 16.0;
 
 double split_target(const SplitSpec& s, double g_ref, double r) {
   if (r <= s.radius) return g_ref;
+  // Frozen beyond max_radius: particles there are no longer split, and their number decays with
+  // the tail instead of crowding a region nobody observes.
+  r = std::min(r, s.max_radius);
   // (r/r_s)^2: a shell's volume grows as r^2, so that with exp(-rate r^power) near the true tail
   // every shell of the tail holds about as many particles as the first.
   const double x = r / s.radius;

@@ -1,0 +1,69 @@
+"""The importance check of the weighted-particle tails (issue 11): one GRW05 example run with the theory
+tail as importance function and once with another shape (config grw05.tails.swpm.check).
+
+Left panel: ln f(r)/f(0) of both runs (resolved shells filled).  Right panel: the difference of the
+two ln f with its confidence band, which must straddle 0 wherever both are resolved.  Summary: b, a
+and the depth of both (granboltz.tail_swpm.swpm_tail_summary) and the verdict: the two b and the two
+a agree within the half-width of their difference (independent runs).
+"""
+
+import sys
+
+sys.stderr = open(snakemake.log[0], "w", buffering=1)
+
+import numpy as np  # noqa: E402
+
+from granboltz.files import write_json  # noqa: E402
+from granboltz.local_exponent import shells_from_h5  # noqa: E402
+from granboltz.plotting import figure_summary, pyplot, save_figure  # noqa: E402
+from granboltz.tail_swpm import shell_profile, swpm_tail_summary  # noqa: E402
+
+plt = pyplot()
+tails, example = snakemake.params.tails, snakemake.params.example
+swpm_cfg, local = tails["swpm"], tails["local"]
+runs = {"theory": shells_from_h5(snakemake.input.theory[0], steady=True),
+        "check": shells_from_h5(snakemake.input.check[0], steady=True)}
+splits = {"theory": snakemake.params.theory_split, "check": snakemake.params.check_split}
+s = {k: swpm_tail_summary(v, example, local, swpm_cfg["max_rel_ci"])[0] for k, v in runs.items()}
+
+
+def label(k):
+    sp = splits[k]
+    return f"importance exp(−{sp['rate']:.3g} r^{sp['power']:g})"
+
+
+fig, (ax, bx) = plt.subplots(1, 2, figsize=(8.4, 3.4))
+prof = {k: shell_profile(v) for k, v in runs.items()}
+for k, colour in (("theory", "black"), ("check", "tab:red")):
+    r, ratio, rel = prof[k]
+    ok = np.isfinite(ratio) & (ratio > 0)
+    good = ok & (rel < swpm_cfg["max_rel_ci"])
+    ax.plot(r[good], np.log(ratio[good]), "o", ms=2.2, color=colour, label=f"{label(k)}, resolved")
+    ax.plot(r[ok & ~good], np.log(ratio[ok & ~good]), "o", ms=2.2, mfc="none", color=colour, label="unresolved")
+ax.set_xlabel("$r = |v|$")
+ax.set_ylabel("$\\ln f(r)/f(0)$")
+ax.legend(loc="lower left", fontsize=6.5)
+r, (_, f1, e1), (_, f2, e2) = prof["theory"][0], prof["theory"], prof["check"]
+both = np.isfinite(f1) & np.isfinite(f2) & (f1 > 0) & (f2 > 0) & (e1 < 1) & (e2 < 1)
+d, hw = np.log(f2[both] / f1[both]), np.hypot(e1[both], e2[both])  # relative half-widths ~ of ln f
+bx.fill_between(r[both], d - hw, d + hw, color="0.7", lw=0)
+bx.plot(r[both], d, "-", color="black", lw=1)
+bx.axhline(0.0, color="black", lw=0.7, ls="-.")
+bx.set_xlabel("$r = |v|$")
+bx.set_ylabel("$\\ln f_{check} - \\ln f_{theory}$")
+fig.suptitle(f"GRW05 Example {example}, weighted particles: the importance function does not change the tail",
+             fontsize=8)
+fig.tight_layout()
+save_figure(fig, [snakemake.output.png, snakemake.output.pdf])
+
+t, c = s["theory"], s["check"]
+db, da = c["b_swpm"] - t["b_swpm"], c["a_swpm"] - t["a_swpm"]
+hb, ha = np.hypot(t["b_swpm_ci"], c["b_swpm_ci"]), np.hypot(t["a_swpm_ci"], c["a_swpm_ci"])
+ok = bool(np.isfinite(db) and abs(db) <= hb and abs(da) <= ha)
+text = (f"with {label('check')}: b = {c['b_swpm']:.3f} ± {c['b_swpm_ci']:.3f}, a = {c['a_swpm']:.3f} ± "
+        f"{c['a_swpm_ci']:.3f}, resolved to f/f(0) = {c['depth_swpm']:.1e}; with the theory's "
+        f"{label('theory')}: b = {t['b_swpm']:.3f} ± {t['b_swpm_ci']:.3f}, a = {t['a_swpm']:.3f} ± "
+        f"{t['a_swpm_ci']:.3f}, {t['depth_swpm']:.1e}; difference b {db:+.3f} ± {hb:.3f}, a {da:+.3f} ± {ha:.3f}")
+short = ("agrees: " if ok else "differs: ") + f"b {db:+.3f} ± {hb:.3f}, a {da:+.3f} ± {ha:.3f} between the two importances"
+print(text, file=sys.stderr)
+write_json(figure_summary(text, short, reached=ok, theory=t, check=c), snakemake.output.summary)
