@@ -46,6 +46,33 @@ std::vector<std::string> swpm_sets(const std::string& kappa, std::uint64_t n_max
           "dsmc.weights.reduction=" + reduction};
 }
 
+// The exact steady moments M_2 ... M_10 of the RW05 §4 Maxwell gas (alpha = 1/2, beta = 1,
+// nu = 4): granboltz.maxwell_hierarchy.steady_moments (../shared/reference/tails.md).
+constexpr double kRw05Moments[5] = {8.0, 8000.0 / 69.0, 332864000.0 / 129789.0,
+                                    301884782080000.0 / 3787427871.0,
+                                    10695623645523783680000.0 / 3228104310438591.0};
+
+// A weighted RW05 §4 run (n = 1000, N = 60, from the steady T = 8/3 to t = 4) with `extra` keys;
+// its final speed moments M_2 ... M_2P must lie within the family-wise intervals of the exact ones.
+void expect_rw05_steady_moments(const std::string& seed, int P, std::vector<std::string> extra) {
+  const std::uint64_t N = 60;
+  std::vector<std::string> s = {"model=dsmc", "seed=" + seed, "ensembles=" + std::to_string(N),
+                                "dsmc.particles=1000", "dsmc.alpha=0.5", "dsmc.beta=1",
+                                "dsmc.gamma=1", "dsmc.kernel.lambda=0",
+                                "dsmc.kernel.C=" + format_real(1 / M_PI),
+                                "dsmc.initial.temperature=" + format_real(8.0 / 3.0),
+                                "dsmc.t_end=4", "dsmc.moments=" + std::to_string(P)};
+  s.insert(s.end(), extra.begin(), extra.end());
+  const test::DsmcRun r(parse_config("{}", "test", s));
+  const double z = test::family_z(P);
+  const std::size_t m = r.times.size() - 1;
+  for (int p = 1; p <= P; ++p) {
+    const MeanCi x = r.moment(m, p, P);
+    EXPECT_NEAR(x.mean, kRw05Moments[p - 1], z * std::sqrt(x.variance / static_cast<double>(N)))
+        << moment_name(p);
+  }
+}
+
 }  // namespace
 
 TEST(WeightedCollision, ConservesMassMomentumAndTheExactEnergyChange) {
@@ -265,26 +292,7 @@ TEST(WeightedEnsemble, MaxwellSteadyMomentsMatchTheExactHierarchy) {
   // t = 4 the initial deviation of M_4 (15 T^2 against 8000/69) has decayed to ~2e-3, a tenth of
   // the confidence half-width, and so has the O(1/n_eff) bias (n_eff = 1/sum g^2 ~ 450 here).
   // The heat-flux reduction (the energy one is exercised by the eq. 16 test).
-  const std::uint64_t N = 60;
-  const Config cfg = parse_config("{}", "test", [&] {
-    std::vector<std::string> s = {"model=dsmc", "seed=31", "ensembles=" + std::to_string(N),
-                                  "dsmc.particles=1000", "dsmc.alpha=0.5", "dsmc.beta=1",
-                                  "dsmc.gamma=1", "dsmc.kernel.lambda=0",
-                                  "dsmc.kernel.C=" + format_real(1 / M_PI),
-                                  "dsmc.initial.temperature=" + format_real(8.0 / 3.0),
-                                  "dsmc.t_end=4", "dsmc.moments=3"};
-    for (auto& x : swpm_sets("1", 2000, "heat_flux")) s.push_back(x);
-    return s;
-  }());
-  const test::DsmcRun r(cfg);
-  const double exact[3] = {8.0, 8000.0 / 69.0, 332864000.0 / 129789.0};
-  const double z = test::family_z(3);
-  const std::size_t m = r.times.size() - 1;
-  for (int p = 1; p <= 3; ++p) {
-    const MeanCi s = r.moment(m, p, 3);
-    EXPECT_NEAR(s.mean, exact[p - 1], z * std::sqrt(s.variance / static_cast<double>(N)))
-        << moment_name(p);
-  }
+  expect_rw05_steady_moments("31", 3, swpm_sets("1", 2000, "heat_flux"));
 }
 
 TEST(WeightedSplit, CopiesKeepEveryMomentAndRouletteKeepsTheMass) {
@@ -371,31 +379,11 @@ TEST(WeightedEnsemble, MaxwellSteadyMomentsWithSplittingMatchTheExactHierarchy) 
   // beta = 1, nu = 4). The importance function is deliberately not the true tail (exp(-2 r)):
   // power 1.5, so splitting and roulette must be unbiased whatever the target weights. A biased
   // roulette (keeping either particle of a pair with probability 1/2) fails it at M_6 to M_10.
-  const std::uint64_t N = 60;
-  const Config cfg = parse_config("{}", "test", [&] {
-    std::vector<std::string> s = {"model=dsmc", "seed=33", "ensembles=" + std::to_string(N),
-                                  "dsmc.particles=1000", "dsmc.alpha=0.5", "dsmc.beta=1",
-                                  "dsmc.gamma=1", "dsmc.kernel.lambda=0",
-                                  "dsmc.kernel.C=" + format_real(1 / M_PI),
-                                  "dsmc.initial.temperature=" + format_real(8.0 / 3.0),
-                                  "dsmc.t_end=4", "dsmc.moments=5",
-                                  "dsmc.weights.split.radius=4", "dsmc.weights.split.rate=0.8",
-                                  "dsmc.weights.split.power=1.5",
-                                  "dsmc.weights.split.interval=0.03"};
-    for (auto& x : swpm_sets("1", 3000)) s.push_back(x);
-    return s;
-  }());
-  const test::DsmcRun r(cfg);
-  const double exact[5] = {8.0, 8000.0 / 69.0, 332864000.0 / 129789.0,
-                           301884782080000.0 / 3787427871.0,
-                           10695623645523783680000.0 / 3228104310438591.0};
-  const double z = test::family_z(5);
-  const std::size_t m = r.times.size() - 1;
-  for (int p = 1; p <= 5; ++p) {
-    const MeanCi s = r.moment(m, p, 5);
-    EXPECT_NEAR(s.mean, exact[p - 1], z * std::sqrt(s.variance / static_cast<double>(N)))
-        << moment_name(p);
-  }
+  auto sets = swpm_sets("1", 3000);
+  for (const char* x : {"dsmc.weights.split.radius=4", "dsmc.weights.split.rate=0.8",
+                        "dsmc.weights.split.power=1.5", "dsmc.weights.split.interval=0.03"})
+    sets.push_back(x);
+  expect_rw05_steady_moments("33", 5, sets);
 }
 
 TEST(WeightedEnsemble, HardSphereSteadyTemperatureAndA2MatchConstantWeights) {

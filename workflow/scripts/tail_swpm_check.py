@@ -3,8 +3,11 @@ tail as importance function and once with another shape (config grw05.tails.swpm
 
 Left panel: ln f(r)/f(0) of both runs (resolved shells filled).  Right panel: the difference of the
 two ln f with its confidence band, which must straddle 0 wherever both are resolved.  Summary: b, a
-and the depth of both (granboltz.tail_swpm.swpm_tail_summary) and the verdict: the two b and the two
-a agree within the half-width of their difference (independent runs).
+and the depth of both (granboltz.tail_swpm.swpm_tail_summary) and the verdict: the two b agree within
+the goal's tolerance on b (0.03) and the two a within its tolerance on a (5 %), i.e. the importance
+function does not decide the result.  Whether they also agree within the fits' half-widths is said:
+those treat the shells as independent, while the shells of one ensemble share ancestors, so the
+difference of two independent runs is the honest measure of the fits' spread.
 """
 
 import sys
@@ -59,11 +62,16 @@ save_figure(fig, [snakemake.output.png, snakemake.output.pdf])
 t, c = s["theory"], s["check"]
 db, da = c["b_swpm"] - t["b_swpm"], c["a_swpm"] - t["a_swpm"]
 hb, ha = np.hypot(t["b_swpm_ci"], c["b_swpm_ci"]), np.hypot(t["a_swpm_ci"], c["a_swpm_ci"])
-ok = bool(np.isfinite(db) and abs(db) <= hb and abs(da) <= ha)
+B_TOL, A_REL = 0.03, 0.05  # the issue-11 goal's tolerances (granboltz.tail_swpm.swpm_verdict)
+ok = bool(np.isfinite(db) and abs(db) <= B_TOL and abs(da) <= A_REL * t["a_swpm"])
+within = "within" if abs(db) <= hb and abs(da) <= ha else "beyond"
 text = (f"with {label('check')}: b = {c['b_swpm']:.3f} ± {c['b_swpm_ci']:.3f}, a = {c['a_swpm']:.3f} ± "
         f"{c['a_swpm_ci']:.3f}, resolved to f/f(0) = {c['depth_swpm']:.1e}; with the theory's "
         f"{label('theory')}: b = {t['b_swpm']:.3f} ± {t['b_swpm_ci']:.3f}, a = {t['a_swpm']:.3f} ± "
-        f"{t['a_swpm_ci']:.3f}, {t['depth_swpm']:.1e}; difference b {db:+.3f} ± {hb:.3f}, a {da:+.3f} ± {ha:.3f}")
-short = ("agrees: " if ok else "differs: ") + f"b {db:+.3f} ± {hb:.3f}, a {da:+.3f} ± {ha:.3f} between the two importances"
+        f"{t['a_swpm_ci']:.3f}, {t['depth_swpm']:.1e}; difference b {db:+.3f}, a {da:+.3f} ({100 * da / t['a_swpm']:+.1f} %), "
+        f"{within} the fits' combined half-widths ± {hb:.3f}, ± {ha:.3f} (they treat the shells as independent) and "
+        f"{'within' if ok else 'beyond'} the goal's tolerances 0.03 and 5 %")
+short = (("agrees: " if ok else "differs: ") + f"b {db:+.3f}, a {100 * da / t['a_swpm']:+.1f} % between the two "
+         f"importances (goal tolerances 0.03, 5 %; {within} the fits' half-widths ± {hb:.3f}, ± {ha:.3f})")
 print(text, file=sys.stderr)
 write_json(figure_summary(text, short, reached=ok, theory=t, check=c), snakemake.output.summary)
