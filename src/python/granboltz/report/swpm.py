@@ -38,11 +38,11 @@ WHY = ("**Why splitting, and why along the path.** SWPM by itself splits weight 
 
 
 def _fixed(x, ci, decimals=3):
-    """'x ± ci' with both to `decimals` decimals (b and a are compared at 0.03 and 5 %); pm() if
-    either is missing."""
+    """'x ± ci' with both to `decimals` decimals (b and a are compared at 0.03 and 5 %); '–' (a
+    missing number, so that the column stays numeric) if x is missing, pm() if only ci is."""
     if x == x and ci == ci:
         return f"{x:.{decimals}f} ± {ci:.{decimals}f}"
-    return pm(x, ci, 3)
+    return DASH if x != x else pm(x, ci, 3)
 
 
 def swpm_section(items, data, item_blocks):
