@@ -521,7 +521,12 @@ dsmc:
   histogram: {shells: 10, radius: 8}
   moments: 4
   steady_from: 0.3
-  weights: {method: swpm, kappa: 1, max_particles: 300, reduction: heat_flux}
+  weights:
+    method: swpm
+    kappa: 1
+    max_particles: 300
+    reduction: heat_flux
+    split: {radius: 3, rate: 1, interval: 0.05, max_radius: 8}
 )");
   const std::string whole = dir.file("whole.h5"), one = dir.file("one.h5");
   auto ok = [](const test::CommandResult& r) { ASSERT_EQ(r.exit_code, 0) << r.output; };
@@ -539,5 +544,6 @@ dsmc:
   ok(test::run_granboltz("merge " + shards + "-o " + merged));
   test::expect_identical_outputs(whole, merged);
   H5Reader in(merged);
-  EXPECT_TRUE(in.exists("/accumulators/histogram_weight") && in.exists("/events/reductions"));
+  EXPECT_TRUE(in.exists("/accumulators/histogram_weight") && in.exists("/events/reductions") &&
+              in.exists("/steady/histogram/mean") && in.exists("/accumulators/histogram_steady"));
 }

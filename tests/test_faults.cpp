@@ -81,7 +81,7 @@ TEST(Sharding, MergedShardsEqualTheUnshardedRunInEveryDatasetForEveryModel) {
     if (text == kDsmc) {  // the speed moments are among the datasets compared
       H5Reader in(merged);
       EXPECT_TRUE(in.exists("/moment_32/mean") && in.exists("/steady/moment_32/ci") &&
-                  in.exists("/accumulators/moment_series"));
+                  in.exists("/accumulators/moment_series") && in.exists("/steady/histogram/ci"));
     }
   }
 }
