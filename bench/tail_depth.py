@@ -29,7 +29,7 @@ sys.path.insert(0, str(ROOT / "src" / "python"))
 
 from granboltz.local_exponent import shells_from_h5  # noqa: E402
 from granboltz.tail_swpm import resolved_depth  # noqa: E402
-from granboltz.tail_theory import fast_particle_rate, tail_amplitude, tail_exponent  # noqa: E402
+from granboltz.tail_theory import importance_split  # noqa: E402
 
 # GRW05 §5.3: lambda, t_end (the paper's), histogram radius R (128 shells) and split radius r_s of
 # config/paper.yaml grw05.tails.swpm
@@ -41,8 +41,7 @@ ROWS = 20
 def split_of(example):
     """dsmc.weights.split as the workflow sets it (workflow/rules/grw05_swpm.smk)."""
     lam, _, radius, r_s = EXAMPLES[example]
-    a, b = tail_amplitude(fast_particle_rate(GAMMA, math.pi * C), BETA, lam), tail_exponent(lam)
-    return {"radius": r_s, "rate": a, "power": b, "interval": 1.0 / (8.0 * BETA * (a * b * radius ** (b - 1)) ** 2)}
+    return importance_split(lam, BETA, GAMMA, C, radius, r_s)
 
 
 def run_config(example, n, N, seed, weights=None):

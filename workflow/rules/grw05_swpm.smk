@@ -24,21 +24,14 @@ def grw05_swpm_runs(ex):
 
 
 def grw05_swpm_split(ex, power=None):
-    """dsmc.weights.split of experiment `ex`: the importance function exp(-a r^b) of the theory tail
-    (GRW05 eq. 38 to leading order; it sets the variance, not the mean: docs/config.md), and sweeps
-    whose kicks move a particle by half an e-fold of it at the histogram radius R,
-    h = 1/(8 beta s^2), s = a b R^(b-1) (the theory's s, also for the check); no splitting beyond R.  power: the importance
-    check's exp(-a' r^power) instead, a' = a R^b / R^power (the same decay at R, another shape)."""
-    from granboltz.tail_theory import fast_particle_rate, tail_amplitude, tail_exponent
+    """dsmc.weights.split of experiment `ex` (granboltz.tail_theory.importance_split): the theory
+    tail as importance function from split_radius out to the histogram radius R, or the importance
+    check's exp(-a' r^power)."""
+    from granboltz.tail_theory import importance_split
 
     e = GRW05[ex]
-    lam, beta, R = float(e["kernel"]["lambda"]), float(e["beta"]), float(SWPM["radius"][ex])
-    nu = fast_particle_rate(float(e["gamma"]), math.pi * float(e["kernel"]["C"]))
-    a, b = tail_amplitude(nu, beta, lam), tail_exponent(lam)
-    slope = a * b * R ** (b - 1)
-    rate, shape = (a, b) if power is None else (a * R**b / R ** float(power), float(power))
-    return {"radius": float(SWPM["split_radius"][ex]), "rate": rate, "power": shape,
-            "interval": 1.0 / (8.0 * beta * slope**2), "max_radius": R}
+    return importance_split(float(e["kernel"]["lambda"]), float(e["beta"]), float(e["gamma"]),
+                            float(e["kernel"]["C"]), float(SWPM["radius"][ex]), SWPM["split_radius"][ex], power)
 
 
 def grw05_swpm_run_config(wildcards):

@@ -17,7 +17,7 @@ b / (1 + C'/(a r^b)) = b (1 + |C'|/(a r^b) + ...): the fit is biased upwards by 
 only like 1/(number of e-folds of f) (eq38_slope).
 """
 from fractions import Fraction
-from math import sqrt
+from math import pi, sqrt
 
 import numpy as np
 
@@ -104,3 +104,16 @@ def offset_for_slope(b_eff, a, b, radius, shells, k0=1, window=(4.25, 4.6), chi=
     lo = -(a * r_lo**b - chi * np.log(r_lo)) * (1 - 1e-9)
     hi = (a * r_lo**b) * 10
     return brentq(lambda c: eq38_slope(a, b, c, radius, shells, k0, window, chi) - b_eff, lo, hi, xtol=1e-12)
+
+
+def importance_split(lam, beta, gamma, C, radius, r_s, power=None):
+    """dsmc.weights.split for a heated steady tail (docs/config.md): the importance function
+    exp(-a r^b) of the leading-order tail, splitting from r_s out to the histogram radius R =
+    `radius`, sweeps whose kicks move a particle by half an e-fold of it at R, h = 1/(8 beta s^2),
+    s = a b R^(b-1).  power: exp(-a' r^power) instead, a' = a R^b / R^power (the same decay at R,
+    another shape; the importance check), with the same h."""
+    a, b = tail_amplitude(fast_particle_rate(gamma, pi * C), beta, lam), tail_exponent(lam)
+    slope = a * b * radius ** (b - 1)
+    rate, shape = (a, b) if power is None else (a * radius**b / radius ** float(power), float(power))
+    return {"radius": float(r_s), "rate": rate, "power": shape, "interval": 1.0 / (8.0 * beta * slope**2),
+            "max_radius": radius}
