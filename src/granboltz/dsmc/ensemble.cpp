@@ -69,12 +69,17 @@ DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, std::uint64_t seed, std::ui
   if (pairwise_) {
     w_.resize(p_.size());
     reweigh_all();
+    const auto n = static_cast<std::uint32_t>(p_.size());
+    candidates_ = IndexStream(seed, ensemble, Consumer::kCandidates, n);
+    partners_ = IndexStream(seed, ensemble, Consumer::kPartners, n - 1);
+  } else {
+    for (auto& pair : ring_) pair = draw_pair(pairs_);
   }
-  for (auto& pair : ring_) pair = draw_pair(pairs_);
 }
 
 std::uint64_t DsmcEnsemble::random_draws() const {
-  return events_.draws() + pairs_.draws() + sweep_.draws();
+  return events_.draws() + pairs_.draws() + sweep_.draws() + candidates_.draws() +
+         partners_.draws();
 }
 
 // ---- Global majorant (GRW05 §4, RW05 §3.4) ----
@@ -177,7 +182,12 @@ GRANBOLTZ_HOT void DsmcEnsemble::reweigh(std::uint32_t i) {
   const double w = weight<kLambda>(p_[i].v);
   w_sum_ += w - w_[i];
   w_[i] = w;
-  if (w > w_max_) w_max_ = w;
+  if (w > w_max_) [[unlikely]] set_w_max(w);
+}
+
+void DsmcEnsemble::set_w_max(double w_max) {
+  w_max_ = w_max;
+  candidate_scale_ = 0x1p-32 * w_max;
 }
 
 template <int kLambda>
@@ -202,7 +212,7 @@ void DsmcEnsemble::reweigh_all() {
     max = std::max(max, w);
   }
   w_sum_ = sum;
-  w_max_ = max;
+  set_w_max(max);
   set_pairwise_rate();
 }
 
@@ -222,10 +232,11 @@ void DsmcEnsemble::set_pairwise_rate() {
 }
 
 template <int kLambda>
-GRANBOLTZ_HOT bool DsmcEnsemble::accept_pairwise(double u2, double bound, Engine& events) {
+GRANBOLTZ_HOT bool DsmcEnsemble::accept_pairwise(double u2, double bound, std::uint32_t bits) {
   // Accept with probability |u|^lambda / (w_i + w_j), the weights being those the waiting time
-  // was drawn with; 1 when a kick has carried |u|^lambda beyond them (the truncated kernel).
-  const double r = uniform01(events) * bound;
+  // was drawn with; 1 when a kick has carried |u|^lambda beyond them (the truncated kernel). The
+  // uniform has 32 random bits: a bias below 2^-32 in the acceptance probability.
+  const double r = (static_cast<double>(bits) + 0.5) * 0x1p-32 * bound;
   if constexpr (kLambda == kHardSpheres) {
     return r * r < u2;
   } else if constexpr (kLambda == kHalf) {
@@ -239,7 +250,7 @@ GRANBOLTZ_HOT bool DsmcEnsemble::accept_pairwise(double u2, double bound, Engine
 
 GRANBOLTZ_HOT DsmcEnsemble::Pair DsmcEnsemble::draw_pair(Engine& pairs) {
   const auto n = static_cast<std::uint32_t>(p_.size());
-  Pair pair{0, 0};
+  Pair pair{0, 0, 0};
   // i uniform on {0..n-1}, j uniform on the others (GRW05 steps 2.3-2.4). For the pairwise
   // majorant i is a candidate, kept with probability w_i / w_max by select_pair().
   uniform_index_pair(pairs, n, n - 1, pair.i, pair.j);
@@ -254,21 +265,21 @@ GRANBOLTZ_HOT DsmcEnsemble::Pair DsmcEnsemble::next_pair(Engine& pairs) {
   head_ = (head_ + 1) % kLookahead;
   __builtin_prefetch(&p_[ahead.i], 1);
   __builtin_prefetch(&p_[ahead.j], 1);
-  if (pairwise_) __builtin_prefetch(&w_[ahead.i]);
   return pair;
 }
 
 template <int kLambda, bool kPairwise>
 GRANBOLTZ_HOT DsmcEnsemble::Pair DsmcEnsemble::select_pair(Engine& pairs, Engine& events) {
+  (void)events;
   if constexpr (!kPairwise) {
     return next_pair(pairs);
   } else {
     // The ordered pair (i, j) with probability proportional to w_i + w_j: i by weight (rejection
-    // against w_max), j uniform among the others; the order does not matter for a collision.
-    for (;;) {
-      const Pair pair = next_pair(pairs);
-      if (uniform01(events) * w_max_ < w_[pair.i]) return pair;
-    }
+    // against w_max, with 32 acceptance bits: a bias below 2^-32 in the acceptance probability),
+    // j uniform among the others; the order does not matter for a collision.
+    const std::uint32_t i = candidates_.select(w_.data(), p_.data(), candidate_scale_);
+    const IndexBits partner = partners_.next<true>(w_.data(), p_.data());
+    return {i, partner.i + (partner.i >= i), partner.bits};
   }
 }
 
@@ -310,7 +321,7 @@ bool DsmcEnsemble::run_nosplit(double s, const std::atomic<bool>* pause) {
       }
     }
     bool real = true;
-    if constexpr (kPairwise) real = accept_pairwise<kLambda>(norm2(a.v - b.v), bound, ev);
+    if constexpr (kPairwise) real = accept_pairwise<kLambda>(norm2(a.v - b.v), bound, pair.bits);
     else if constexpr (kGaussian && kLambda != kMaxwell)  // the global majorant is in true units
       real = accept<kLambda>(s2_ * norm2(a.v - b.v), ev);
     else if constexpr (kLambda != kMaxwell) real = accept<kLambda>(norm2(a.v - b.v), ev);  // 2.8
@@ -383,7 +394,7 @@ void DsmcEnsemble::collide_during(double h) {
     Particle& b = p_[pair.j];
     bool real = true;
     if constexpr (kPairwise)
-      real = accept_pairwise<kLambda>(norm2(a.v - b.v), w_[pair.i] + w_[pair.j], ev);
+      real = accept_pairwise<kLambda>(norm2(a.v - b.v), w_[pair.i] + w_[pair.j], pair.bits);
     else if constexpr (kGaussian && kLambda != kMaxwell)
       real = accept<kLambda>(s2_ * norm2(a.v - b.v), ev);
     else if constexpr (kLambda != kMaxwell)
@@ -510,6 +521,39 @@ bool DsmcEnsemble::advance_to(double s, const std::atomic<bool>* pause) {
 
 // ---- Checkpoints ----
 
+namespace {
+// An index stream as its buffer of (index, bits) rows, its position, and its lanes.
+void write_index_stream(H5Writer& out, const std::string& g, const IndexStream& s) {
+  std::vector<std::uint64_t> rows;
+  for (const IndexBits& x : s.buffer()) {
+    rows.push_back(x.i);
+    rows.push_back(x.bits);
+  }
+  out.write(g + "/buffer", rows, {IndexStream::kBuffer, 2});
+  out.write(g + "/position", std::vector<std::uint64_t>{s.position()}, {1});
+  for (unsigned l = 0; l < IndexStream::kLanes; ++l)
+    write_engine(out, g + "/lane_" + std::to_string(l), s.lane(l));
+}
+
+IndexStream read_index_stream(const H5Reader& in, const std::string& g, std::uint32_t range) {
+  const auto rows = in.read_uint64(g + "/buffer");
+  const auto position = in.read_uint64(g + "/position");
+  if (rows.size() != 2 * IndexStream::kBuffer || position.size() != 1 ||
+      position[0] > IndexStream::kBlock)
+    throw std::runtime_error(in.path() + ": malformed index stream " + g);
+  std::array<IndexBits, IndexStream::kBuffer> buffer;
+  for (unsigned k = 0; k < IndexStream::kBuffer; ++k) {
+    if (rows[2 * k] >= range || rows[2 * k + 1] > 0xFFFFFFFFu)
+      throw std::runtime_error(in.path() + ": malformed index stream " + g);
+    buffer[k] = {static_cast<std::uint32_t>(rows[2 * k]), static_cast<std::uint32_t>(rows[2 * k + 1])};
+  }
+  std::array<Engine, IndexStream::kLanes> lanes;
+  for (unsigned l = 0; l < IndexStream::kLanes; ++l)
+    lanes[l] = read_engine(in, g + "/lane_" + std::to_string(l));
+  return IndexStream(range, lanes, buffer, static_cast<unsigned>(position[0]));
+}
+}  // namespace
+
 void DsmcEnsemble::save(H5Writer& out, const std::string& g) const {
   const std::size_t n = p_.size();
   write_particles(out, g + "/particles", p_);
@@ -528,7 +572,11 @@ void DsmcEnsemble::save(H5Writer& out, const std::string& g) const {
             std::vector<std::uint64_t>{head_, counts_.collisions, counts_.fictitious, counts_.kicks,
                                        refresh_countdown_},
             {5});
-  if (pairwise_) out.write(g + "/weights", w_, {n});
+  if (pairwise_) {
+    out.write(g + "/weights", w_, {n});
+    write_index_stream(out, g + "/candidates", candidates_);
+    write_index_stream(out, g + "/partners", partners_);
+  }
   if (gaussian_) out.write(g + "/thermostat", std::vector<double>{energy_, target_}, {2});
 }
 
@@ -557,15 +605,17 @@ DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, const H5Reader& in, const s
   set_majorant(scalars[4]);
   for (unsigned k = 0; k < kLookahead; ++k)
     ring_[k] = {static_cast<std::uint32_t>(ring_index[2 * k]),
-                static_cast<std::uint32_t>(ring_index[2 * k + 1])};
+                static_cast<std::uint32_t>(ring_index[2 * k + 1]), 0};
   head_ = static_cast<unsigned>(counters[0]);
   counts_ = {counters[1], counters[2], counters[3]};
   if (pairwise_) {
     w_ = in.read_double(g + "/weights");
     if (w_.size() != n) throw std::runtime_error(in.path() + ": malformed weights in " + g);
     w_sum_ = scalars[5];
-    w_max_ = scalars[6];
+    set_w_max(scalars[6]);
     refresh_countdown_ = counters[4];
+    candidates_ = read_index_stream(in, g + "/candidates", static_cast<std::uint32_t>(n));
+    partners_ = read_index_stream(in, g + "/partners", static_cast<std::uint32_t>(n - 1));
     set_pairwise_rate();
   }
   if (gaussian_) {  // the lazy scale: the particles above are the stored velocities w

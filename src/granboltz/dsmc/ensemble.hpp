@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "granboltz/dsmc/index_stream.hpp"
 #include "granboltz/dsmc/config.hpp"
 #include "granboltz/driver/ensemble_driver.hpp"
 #include "granboltz/io/hdf5_io.hpp"
@@ -57,7 +58,8 @@ class DsmcEnsemble {
   // the stream is consumed in order, so the look-ahead cannot change any result.
   static constexpr unsigned kLookahead = 16;
   struct Pair {
-    std::uint32_t i, j;  // the partners (pairwise majorant: i is a candidate, kept by weight)
+    std::uint32_t i, j;  // the partners
+    std::uint32_t bits;  // pairwise majorant: the event's 32 acceptance bits
   };
 
   // The event loops, specialised by what happens between and after collisions.
@@ -80,7 +82,7 @@ class DsmcEnsemble {
   template <int kLambda>
   bool accept(double u2, Engine& events);  // global majorant: real (not fictitious) collision?
   template <int kLambda>
-  bool accept_pairwise(double u2, double bound, Engine& events);
+  bool accept_pairwise(double u2, double bound, std::uint32_t bits);
   template <int kLambda>
   double weight(const Vec3& v) const;  // pairwise majorant weight |v - V|^lambda
   template <int kLambda>
@@ -97,6 +99,7 @@ class DsmcEnsemble {
   void set_majorant(double u_max);
   Pair draw_pair(Engine& pairs);
   Pair next_pair(Engine& pairs);
+  void set_w_max(double w_max);
   void report(double t) {
     if (progress_) progress_->store(t / c_.t_end, std::memory_order_relaxed);
   }
@@ -116,12 +119,17 @@ class DsmcEnsemble {
   double s2_ = 1.0;       // gaussian: s^2 = target_ / energy_
   double clock_ = 1.0;    // gaussian, pairwise majorant: s^-lambda (the rate is in w units)
   Engine events_, pairs_, sweep_;
-  std::array<Pair, kLookahead> ring_{};
+  std::array<Pair, kLookahead> ring_{};  // global majorant: the pairs ahead
   unsigned head_ = 0;
+  // Pairwise majorant: heavy-partner candidates i, kept if (bits + 1/2) 2^-32 w_max < w_i, and
+  // the other partners j', uniform on {0..n-2} (j = j' + (j' >= i)), with the event's acceptance
+  // bits.
+  IndexStream candidates_, partners_;
   // Pairwise majorant (dsmc.majorant: pairwise): B_ij <= C gamma 4 pi (w_i + w_j).
   bool pairwise_;
   std::vector<double> w_;
   double w_sum_ = 0.0, w_max_ = 0.0;
+  double candidate_scale_ = 0.0;  // 2^-32 w_max (exact: a power of two)
   std::uint64_t refresh_countdown_ = 0;  // weight updates until the next exact sweep
   double pairwise_rate_factor_ = 0.0;  // pi_hat / W
   EventCounts counts_;

@@ -1,5 +1,6 @@
 #pragma once
 // The inelastic collision map of GRW05 eq. (4) / RW05 eq. (4).
+#include "granboltz/hot.hpp"
 #include "granboltz/physics/vec3.hpp"
 
 namespace granboltz {
@@ -8,7 +9,7 @@ namespace granboltz {
 ///   v' = (v+w)/2 + (1-alpha)/4 u + (1+alpha)/4 |u| e,
 ///   w' = (v+w)/2 - (1-alpha)/4 u - (1+alpha)/4 |u| e,   u = v - w.
 /// Momentum v + w is conserved to round-off; see energy_change() for the energy.
-inline void collide(Vec3& v, Vec3& w, Vec3 e, double alpha) {
+GRANBOLTZ_HOT void collide(Vec3& v, Vec3& w, Vec3 e, double alpha) {
   const Vec3 u = v - w;
   const Vec3 centre = 0.5 * (v + w);
   const Vec3 d = (0.25 * (1.0 - alpha)) * u + (0.25 * (1.0 + alpha) * norm(u)) * e;

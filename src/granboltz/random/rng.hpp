@@ -30,15 +30,23 @@ class Xoshiro256pp {
   static constexpr result_type max() { return std::numeric_limits<result_type>::max(); }
 
   result_type operator()() {
-    const std::uint64_t r = rotl(s_[0] + s_[3], 23) + s_[0];
-    const std::uint64_t t = s_[1] << 17;
-    s_[2] ^= s_[0];
-    s_[3] ^= s_[1];
-    s_[1] ^= s_[2];
-    s_[0] ^= s_[3];
-    s_[2] ^= t;
-    s_[3] = rotl(s_[3], 45);
     ++draws_;
+    return step(s_[0], s_[1], s_[2], s_[3]);
+  }
+
+  /// One step of xoshiro256++ on the four state words: the output, and the state advanced.
+  /// U is std::uint64_t, or a vector of them (GCC/Clang vector extensions): several engines kept
+  /// side by side, one word of each per vector, are then stepped together.
+  template <class U>
+  static U step(U& s0, U& s1, U& s2, U& s3) {
+    const U r = rotl(s0 + s3, 23) + s0;
+    const U t = s1 << 17;
+    s2 ^= s0;
+    s3 ^= s1;
+    s1 ^= s2;
+    s0 ^= s3;
+    s2 ^= t;
+    s3 = rotl(s3, 45);
     return r;
   }
 
@@ -48,7 +56,8 @@ class Xoshiro256pp {
   friend bool operator==(const Xoshiro256pp&, const Xoshiro256pp&) = default;
 
  private:
-  static std::uint64_t rotl(std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
+  template <class U>
+  static U rotl(U x, int k) { return (x << k) | (x >> (64 - k)); }
   State s_{1, 2, 3, 4};
   std::uint64_t draws_ = 0;
 };
@@ -65,16 +74,20 @@ enum class Consumer : std::uint64_t {
   kSweep = 4,     ///< kicks of all particles (observations, splitting kick steps)
   kReduce = 5,    ///< SWPM reduction: merge directions (dsmc.weights)
   kSplit = 6,     ///< SWPM importance splitting: roulette draws (dsmc.weights.split)
+  kCandidates = 7,  ///< pairwise majorant: heavy-partner candidates (several lanes)
+  kPartners = 8,    ///< pairwise majorant: the other partners and acceptance bits (several lanes)
   kIntruder = 16, ///< TV06 intruder events
   kBath = 17,     ///< TV06 DSMC bath
   kNeedle = 18,   ///< TV06 needle events
 };
 
-/// The stream of `consumer` in ensemble `ensemble` of a run with master seed `seed`.
-inline Engine make_stream(std::uint64_t seed, std::uint64_t ensemble, Consumer consumer) {
+/// The stream of `consumer` in ensemble `ensemble` of a run with master seed `seed` (`lane`: one
+/// of several independent streams of the same consumer).
+inline Engine make_stream(std::uint64_t seed, std::uint64_t ensemble, Consumer consumer,
+                          std::uint64_t lane = 0) {
   using Philox = r123::Philox4x64;
   const Philox::key_type key = {{seed, 0x6772616e626f6c74ULL /* "granbolt" */}};
-  const Philox::ctr_type ctr = {{ensemble, static_cast<std::uint64_t>(consumer), 0, 0}};
+  const Philox::ctr_type ctr = {{ensemble, static_cast<std::uint64_t>(consumer), lane, 0}};
   const Philox::ctr_type out = Philox()(ctr, key);
   Engine::State s = {out[0], out[1], out[2], out[3]};
   if ((s[0] | s[1] | s[2] | s[3]) == 0) s[0] = 1;  // the all-zero state is a fixed point
