@@ -101,3 +101,21 @@ TEST(Config, ErrorsNameTheKeyTheValueAndWhatIsAllowed) {
   EXPECT_NE(test::config_error("model: dsmc\nseed: [1\n").find("YAML syntax error at line"),
             std::string::npos);
 }
+
+TEST(Config, AutoMajorantIsPairwiseWhereItIsExactAndFaster) {
+  // docs/config.md: pairwise for lambda > 0 without kicks between events, constant weights, and
+  // at most kAutoPairwiseMaxParticles particles; global otherwise.
+  auto chosen = [](std::vector<std::string> sets) {
+    sets.insert(sets.begin(), {"dsmc.kernel.lambda=1", "dsmc.beta=0"});
+    return parse_config(kExample3, "test.yaml", sets).dsmc.majorant;
+  };
+  const std::string at_limit = "dsmc.particles=" + std::to_string(kAutoPairwiseMaxParticles);
+  const std::string beyond = "dsmc.particles=" + std::to_string(kAutoPairwiseMaxParticles + 1);
+  EXPECT_EQ(chosen({}), MajorantKind::kPairwise);
+  EXPECT_EQ(chosen({at_limit}), MajorantKind::kPairwise);
+  EXPECT_EQ(chosen({beyond}), MajorantKind::kGlobal);
+  EXPECT_EQ(chosen({"dsmc.kernel.lambda=0"}), MajorantKind::kGlobal);
+  EXPECT_EQ(chosen({"dsmc.beta=1"}), MajorantKind::kGlobal);  // kicks between the events
+  EXPECT_EQ(chosen({"dsmc.beta=1", "dsmc.scheme=strang", "dsmc.steps=32"}), MajorantKind::kPairwise);
+  EXPECT_EQ(chosen({"dsmc.majorant=global"}), MajorantKind::kGlobal);
+}

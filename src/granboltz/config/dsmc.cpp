@@ -249,9 +249,10 @@ const char* majorant_name(MajorantKind m) {
 }
 
 MajorantKind auto_majorant(const DsmcConfig& c) {
-  // Measured with `make bench` (bench/results.csv, docs/config.md): the pairwise majorant needs
+  // Measured with `make bench` (bench/peer.csv, docs/config.md): the pairwise majorant needs
   // about 3.5x fewer events for hard spheres but costs more per event (candidates by rejection,
-  // one more cache line); it is the faster one up to kAutoPairwiseMaxParticles particles.
+  // one more weight to load); it is the faster one up to kAutoPairwiseMaxParticles particles,
+  // beyond which its extra array (8 bytes a particle) misses the caches.
   // It is exact only without kicks between the events, and meaningless for Maxwell molecules.
   const bool kicks_between_events =
       c.scheme == Scheme::kNoSplit && c.thermostat == Thermostat::kWhiteNoise && c.beta > 0;

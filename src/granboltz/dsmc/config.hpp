@@ -89,7 +89,7 @@ const char* majorant_name(MajorantKind m);
 
 /// dsmc.majorant: auto picks pairwise up to this many particles (where the pairwise majorant is
 /// exact and faster; measured in `make bench`), global beyond.
-inline constexpr std::uint64_t kAutoPairwiseMaxParticles = 300'000;
+inline constexpr std::uint64_t kAutoPairwiseMaxParticles = 2'000'000;
 /// The majorant `auto` chooses for a config (everything but `majorant` already read).
 MajorantKind auto_majorant(const DsmcConfig& c);
 

@@ -29,8 +29,8 @@ class IndexStream {
   IndexStream(std::uint64_t seed, std::uint64_t ensemble, Consumer consumer, std::uint32_t range)
       : range_(range), threshold_(static_cast<std::uint32_t>(-range) % range) {
     for (unsigned l = 0; l < kLanes; ++l) set_lane(l, make_stream(seed, ensemble, consumer, l));
-    fill(kPrefetch);  // the first refill() moves the end of this block to the front
-    pos_ = kBlock;
+    fill(kPrefetch);  // entries [kPrefetch, kBuffer): the first block, used from its start
+    pos_ = kPrefetch;
   }
 
   /// The next index. Prefetches w[k] and p[k] for the index k drawn kPrefetch ahead, and also
