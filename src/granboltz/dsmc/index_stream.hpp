@@ -6,7 +6,6 @@
 // in vector registers and no branch per draw, an index costs a few instructions.
 #include <array>
 #include <cstdint>
-#include <cstring>
 
 #include "granboltz/random/rng.hpp"
 
@@ -87,16 +86,6 @@ class IndexStream {
   }
 
  private:
-  template <class V>
-  static void load(V& a, V& b, const std::array<std::uint64_t, kLanes>& s) {
-    std::memcpy(&a, s.data(), sizeof a);
-    std::memcpy(&b, s.data() + 2, sizeof b);
-  }
-  template <class V>
-  static void store(const V& a, const V& b, std::array<std::uint64_t, kLanes>& s) {
-    std::memcpy(s.data(), &a, sizeof a);
-    std::memcpy(s.data() + 2, &b, sizeof b);
-  }
   void set_lane(unsigned l, const Engine& e) {
     s0_[l] = e.state()[0], s1_[l] = e.state()[1], s2_[l] = e.state()[2], s3_[l] = e.state()[3];
   }
@@ -109,57 +98,8 @@ class IndexStream {
     return 0;
   }
 
-  // Lemire's exact method on 32 bits: i = (hi32 * range) >> 32, rejected if the low half of the
-  // product is below 2^32 mod range (probability below range / 2^32). A rejected index is drawn
-  // again from lane 0 after the block, so that the lanes' loop has no branch.
-  void fill(unsigned from) {
-    // The lanes as two vectors of two per state word (GCC/Clang vector extensions: SSE2 on
-    // x86-64, NEON on ARM), so that the two halves are independent chains of instructions.
-    using Pair = std::uint64_t __attribute__((vector_size(16)));
-    static_assert(kLanes == 4);
-    Pair a0, a1, a2, a3, b0, b1, b2, b3;
-    load(a0, b0, s0_);
-    load(a1, b1, s1_);
-    load(a2, b2, s2_);
-    load(a3, b3, s3_);
-    // Each 64-bit output as its two 32-bit halves, the high one first.
-    alignas(64) std::uint32_t high[kBlock], low[kBlock];
-    for (unsigned k = 0; k < kBlock; k += kLanes) {
-      const Pair ra = Engine::step(a0, a1, a2, a3);
-      const Pair rb = Engine::step(b0, b1, b2, b3);
-      for (unsigned l = 0; l < 2; ++l) {
-        high[k + l] = static_cast<std::uint32_t>(ra[l] >> 32);
-        low[k + l] = static_cast<std::uint32_t>(ra[l]);
-        high[k + 2 + l] = static_cast<std::uint32_t>(rb[l] >> 32);
-        low[k + 2 + l] = static_cast<std::uint32_t>(rb[l]);
-      }
-    }
-    store(a0, b0, s0_);
-    store(a1, b1, s1_);
-    store(a2, b2, s2_);
-    store(a3, b3, s3_);
-    draws_ += kBlock;
-    std::uint32_t index[kBlock];
-    std::uint32_t rejected = 0;
-    for (unsigned k = 0; k < kBlock; ++k) {
-      const std::uint64_t m = static_cast<std::uint64_t>(high[k]) * range_;
-      index[k] = static_cast<std::uint32_t>(m >> 32);
-      rejected |= static_cast<std::uint32_t>(m) < threshold_;
-    }
-    IndexBits* out = buffer_.data() + from;
-    for (unsigned k = 0; k < kBlock; ++k) out[k] = {index[k], low[k]};
-    if (rejected) [[unlikely]]
-      for (unsigned k = 0; k < kBlock; ++k)
-        for (std::uint32_t h = high[k]; static_cast<std::uint32_t>(std::uint64_t{h} * range_) < threshold_;) {
-          std::uint64_t l0 = s0_[0], l1 = s1_[0], l2 = s2_[0], l3 = s3_[0];
-          const std::uint64_t r = Engine::step(l0, l1, l2, l3);
-          s0_[0] = l0, s1_[0] = l1, s2_[0] = l2, s3_[0] = l3;
-          ++draws_;
-          h = static_cast<std::uint32_t>(r >> 32);
-          out[k] = {static_cast<std::uint32_t>((std::uint64_t{h} * range_) >> 32),
-                    static_cast<std::uint32_t>(r)};
-        }
-  }
+  // Draws kBlock indices into buffer_[from, from + kBlock) (index_stream.cpp).
+  void fill(unsigned from);
 
   alignas(64) std::array<std::uint64_t, kLanes> s0_{}, s1_{}, s2_{}, s3_{};
   alignas(64) std::array<IndexBits, kBuffer> buffer_{};
