@@ -195,7 +195,8 @@ GRANBOLTZ_HOT void DsmcEnsemble::reweigh_pair(std::uint32_t i, std::uint32_t j) 
   reweigh<kLambda>(i);
   reweigh<kLambda>(j);
   // w_max only grows between sweeps, and the acceptance of a candidate is w_i / w_max: an exact
-  // sweep every n pair updates (O(1) per event) keeps it the current maximum, and the sum exact.
+  // sweep every 2n pair updates (O(1) per event) keeps it near the current maximum, and the sum
+  // exact.
   if (--refresh_countdown_ == 0) reweigh_all<kLambda>();
   else inv_rate_ = 1.0 / (pairwise_rate_factor_ * w_sum_);
 }
@@ -203,7 +204,7 @@ GRANBOLTZ_HOT void DsmcEnsemble::reweigh_pair(std::uint32_t i, std::uint32_t j) 
 template <int kLambda>
 void DsmcEnsemble::reweigh_all() {
   // An exact sum at every sweep keeps the running sum from drifting.
-  refresh_countdown_ = p_.size();
+  refresh_countdown_ = 2 * p_.size();
   double sum = 0.0, max = 0.0;
   for (std::size_t i = 0; i < p_.size(); ++i) {
     const double w = weight<kLambda>(p_[i].v);

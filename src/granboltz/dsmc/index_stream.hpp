@@ -33,17 +33,15 @@ class IndexStream {
   }
 
   /// The next index. Prefetches w[k] and p[k] for the index k drawn kPrefetch ahead, and also
-  /// w[k + 1], p[k + 1] if kNext (an index that may yet be shifted by one).
+  /// p[k + 1] if kNext (an index that may yet be shifted by one; w[k + 1] is mostly on the same
+  /// cache line as w[k]).
   template <bool kNext = false, class P>
   IndexBits next(const double* w, const P* p) {
     if (pos_ == kBlock) [[unlikely]] pos_ = refill();
     const std::uint32_t ahead = buffer_[pos_ + kPrefetch].i;
     __builtin_prefetch(&w[ahead]);
     __builtin_prefetch(&p[ahead], 1);
-    if constexpr (kNext) {
-      __builtin_prefetch(&w[ahead + 1]);
-      __builtin_prefetch(&p[ahead + 1], 1);
-    }
+    if constexpr (kNext) __builtin_prefetch(&p[ahead + 1], 1);
     return buffer_[pos_++];
   }
 
