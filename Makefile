@@ -81,12 +81,12 @@ bench: build
 bench-counters: build
 	/usr/bin/python3 bench/counters.py $(BUILD)/bench/granboltz_bench
 
-## SPARTA=/path/to/spa_serial make bench-peer: the peer problem run by SPARTA (median of REPEAT),
-## then the peer table against those figures instead of the reference ones
+## SPARTA=/path/to/spa_serial make bench-peer: the peer problem run by SPARTA and by granboltz,
+## interleaved repetition by repetition (median of REPEAT), and the peer table against SPARTA's
+## figures (bench/peer.csv, bench/sparta.csv)
 bench-peer: build
 	@test -n "$(SPARTA)" || { echo "make bench-peer: set SPARTA=/path/to/spa_serial"; exit 2; }
-	/usr/bin/python3 bench/sparta_peer.py $(SPARTA) --repeat $(REPEAT) --out bench/sparta.csv
-	$(BUILD)/bench/granboltz_bench --repeat $(REPEAT) --only peer_ --sparta bench/sparta.csv --csv bench/peer.csv
+	/usr/bin/python3 bench/peer_interleaved.py $(SPARTA) $(BUILD)/bench/granboltz_bench --repeat $(REPEAT)
 
 ## make reproduce: every table and figure at reduced size (config/quick.yaml)
 reproduce: deps build python
