@@ -1,6 +1,9 @@
 // Google Benchmark of the physics kernels and samplers (make bench runs it after the harness).
 #include <benchmark/benchmark.h>
 
+#include <vector>
+
+#include "granboltz/dsmc/index_stream.hpp"
 #include "granboltz/physics/collision.hpp"
 #include "granboltz/physics/heating.hpp"
 #include "granboltz/random/rng.hpp"
@@ -27,6 +30,14 @@ void BM_UniformIndex(benchmark::State& s) {
   for (auto _ : s) benchmark::DoNotOptimize(uniform_index(e, 65535));
 }
 BENCHMARK(BM_UniformIndex);
+
+// An index with its 32 acceptance bits from the blocked lanes of the pairwise majorant.
+void BM_IndexStream(benchmark::State& s) {
+  IndexStream stream(1, 0, Consumer::kCandidates, 65535);
+  const std::vector<double> none(65536, 0.0);
+  for (auto _ : s) benchmark::DoNotOptimize(stream.next(none.data(), none.data()));
+}
+BENCHMARK(BM_IndexStream);
 
 void BM_Normal(benchmark::State& s) {
   Engine e = make_stream(1, 0, Consumer::kEvents);
