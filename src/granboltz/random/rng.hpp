@@ -57,7 +57,7 @@ class Xoshiro256pp {
 
  private:
   template <class U>
-  static U rotl(U x, int k) { return (x << k) | (x >> (64 - k)); }
+  static U rotl(const U& x, int k) { return (x << k) | (x >> (64 - k)); }
   State s_{1, 2, 3, 4};
   std::uint64_t draws_ = 0;
 };
