@@ -252,8 +252,7 @@ GRANBOLTZ_HOT bool DsmcEnsemble::accept_pairwise(double u2, double bound, std::u
 GRANBOLTZ_HOT DsmcEnsemble::Pair DsmcEnsemble::draw_pair(Engine& pairs) {
   const auto n = static_cast<std::uint32_t>(p_.size());
   Pair pair{0, 0, 0};
-  // i uniform on {0..n-1}, j uniform on the others (GRW05 steps 2.3-2.4). For the pairwise
-  // majorant i is a candidate, kept with probability w_i / w_max by select_pair().
+  // i uniform on {0..n-1}, j uniform on the others (GRW05 steps 2.3-2.4): the global majorant.
   uniform_index_pair(pairs, n, n - 1, pair.i, pair.j);
   if (pair.j >= pair.i) ++pair.j;
   return pair;
@@ -270,8 +269,7 @@ GRANBOLTZ_HOT DsmcEnsemble::Pair DsmcEnsemble::next_pair(Engine& pairs) {
 }
 
 template <int kLambda, bool kPairwise>
-GRANBOLTZ_HOT DsmcEnsemble::Pair DsmcEnsemble::select_pair(Engine& pairs, Engine& events) {
-  (void)events;
+GRANBOLTZ_HOT DsmcEnsemble::Pair DsmcEnsemble::select_pair(Engine& pairs) {
   if constexpr (!kPairwise) {
     return next_pair(pairs);
   } else {
@@ -306,7 +304,7 @@ bool DsmcEnsemble::run_nosplit(double s, const std::atomic<bool>* pause) {
     if constexpr (kGaussian && kPairwise) tau *= clock_;
     if (t_ + tau >= s) break;
     t_ += tau;
-    const Pair pair = select_pair<kLambda, kPairwise>(pairs, ev);
+    const Pair pair = select_pair<kLambda, kPairwise>(pairs);
     Particle& a = p_[pair.i];
     Particle& b = p_[pair.j];
     double bound = 0.0;
@@ -390,7 +388,7 @@ void DsmcEnsemble::collide_during(double h) {
     if constexpr (kGaussian && kPairwise) t += exponential(ev) * inv_rate_ * clock_;
     else t += exponential(ev) * inv_rate_;
     if (t >= h) break;
-    const Pair pair = select_pair<kLambda, kPairwise>(pairs, ev);
+    const Pair pair = select_pair<kLambda, kPairwise>(pairs);
     Particle& a = p_[pair.i];
     Particle& b = p_[pair.j];
     bool real = true;

@@ -76,7 +76,7 @@ class DsmcEnsemble {
   void fold_scale();              // v := V + s (w - V), then exactly T = T0 about the mean
   void rescale();                 // fold_scale() and the majorant in the new units
   template <int kLambda, bool kPairwise>
-  Pair select_pair(Engine& pairs, Engine& events);  // candidate pair of the majorant process
+  Pair select_pair(Engine& pairs);  // candidate pair of the majorant process
   void kick_all_by(double h);      // kicking step of length h (splitting schemes)
   void kick_all_to(double s);      // kick every particle from its own last time to s
   template <int kLambda>

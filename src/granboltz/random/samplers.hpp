@@ -86,24 +86,6 @@ inline double normal_tail(double r, bool negative, E& eng) {
 
 }  // namespace detail
 
-/// A uniform index in [0, range) (exact, Lemire's method on 32 bits) and 32 further independent
-/// random bits, from one 64-bit draw (range below 2^32). (bits + 0.5) 2^-32 is then a uniform on
-/// (0, 1) with 32 random bits.
-template <class E>
-inline void uniform_index_and_bits(E& eng, std::uint32_t range, std::uint32_t& index,
-                                   std::uint32_t& bits32) {
-  for (;;) {
-    const std::uint64_t bits = eng();
-    const std::uint64_t m = (bits >> 32) * range;
-    if (static_cast<std::uint32_t>(m) < range &&
-        static_cast<std::uint32_t>(m) < static_cast<std::uint32_t>(-range) % range)
-      continue;
-    index = static_cast<std::uint32_t>(m >> 32);
-    bits32 = static_cast<std::uint32_t>(bits);
-    return;
-  }
-}
-
 /// Standard normal variate (ziggurat).
 template <class E>
 inline double normal(E& eng) {
