@@ -572,7 +572,7 @@ void DsmcEnsemble::save(H5Writer& out, const std::string& g) const {
                                        refresh_countdown_},
             {5});
   if (pairwise_) {
-    out.write(g + "/weights", w_, {n});
+    out.write(g + "/weights", std::vector<double>(w_.begin(), w_.end()), {n});
     write_index_stream(out, g + "/candidates", candidates_);
     write_index_stream(out, g + "/partners", partners_);
   }
@@ -608,7 +608,8 @@ DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, const H5Reader& in, const s
   head_ = static_cast<unsigned>(counters[0]);
   counts_ = {counters[1], counters[2], counters[3]};
   if (pairwise_) {
-    w_ = in.read_double(g + "/weights");
+    const std::vector<double> w = in.read_double(g + "/weights");
+    w_.assign(w.begin(), w.end());
     if (w_.size() != n) throw std::runtime_error(in.path() + ": malformed weights in " + g);
     w_sum_ = scalars[5];
     set_w_max(scalars[6]);

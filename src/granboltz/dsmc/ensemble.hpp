@@ -127,7 +127,7 @@ class DsmcEnsemble {
   IndexStream candidates_, partners_;
   // Pairwise majorant (dsmc.majorant: pairwise): B_ij <= C gamma 4 pi (w_i + w_j).
   bool pairwise_;
-  std::vector<double> w_;
+  std::vector<double, HugePageAllocator<double>> w_;
   double w_sum_ = 0.0, w_max_ = 0.0;
   double candidate_scale_ = 0.0;  // 2^-32 w_max (exact: a power of two)
   std::uint64_t refresh_countdown_ = 0;  // weight updates until the next exact sweep
