@@ -8,6 +8,8 @@
 
 #include <cstdint>
 #include <fstream>
+#include <string>
+#include <utility>
 #include <thread>
 
 #include "granboltz/config/config.hpp"
@@ -51,27 +53,33 @@ TEST(ParticleAllocator, LargeBlocksAreAlignedAndReusedByTheNextArrayOfTheirSize)
 }
 
 TEST(ParticleAllocator, ManyEnsemblesInARowHoldOneParticleArray) {
-  // 60 ensembles of 10^5 particles (3.2 MB each) built and dropped one after the other: the
-  // resident memory may grow by a few arrays (the first touch of the spare, the weights), not by
-  // one per ensemble as it did.
-  const Config c = parse_config("{}", "test",
-                                {"model=dsmc", "seed=3", "ensembles=60", "dsmc.particles=100000",
-                                 "dsmc.kernel.lambda=1", "dsmc.alpha=0.5", "dsmc.beta=1", "dsmc.gamma=1", "dsmc.kernel.C=0.1", "dsmc.t_end=0.001",
-                                 "dsmc.observe_every=0.001"});
-  const std::uint64_t array = c.dsmc.particles * sizeof(Particle);
-  std::uint64_t before = 0, after = 0;
-  // On a worker thread, as in the run driver: glibc gives it an arena of its own.
-  std::thread worker([&] {
+  // Ensembles built and dropped one after the other on two worker threads, as in the run driver:
+  // the resident memory may grow by a few arrays (the spares) and some slack, not by one array
+  // per ensemble as it did. 10^5 particles (3.2 MB) and 4096 (128 KiB, the RW05 tables' size).
+  for (const auto& [n, count] : {std::pair<int, int>{100000, 60}, {4096, 1000}}) {
+    const Config c = parse_config(
+        "{}", "test",
+        {"model=dsmc", "seed=3", "ensembles=" + std::to_string(count),
+         "dsmc.particles=" + std::to_string(n), "dsmc.kernel.lambda=1", "dsmc.alpha=0.5",
+         "dsmc.beta=1", "dsmc.gamma=1", "dsmc.kernel.C=0.1", "dsmc.t_end=0.001",
+         "dsmc.observe_every=0.001"});
+    const std::uint64_t array = c.dsmc.particles * sizeof(Particle);
+    // Two worker threads side by side, as in a run on 2 threads, each with its own glibc arena.
     { DsmcEnsemble warm(c.dsmc, c.seed, 0); }
-    before = resident_bytes();
-    for (std::uint64_t e = 1; e < 60; ++e) {
-      DsmcEnsemble ens(c.dsmc, c.seed, e);
-      if (!ens.advance_to(0.001)) return;
-    }
-    after = resident_bytes();
-  });
-  worker.join();
-  ASSERT_GT(after, 0u);
-  EXPECT_LT(after, before + 4 * array) << "resident memory grew from " << before << " to "
-                                       << after << " bytes over 59 ensembles";
+    const std::uint64_t before = resident_bytes();
+    auto work = [&](int first) {
+      for (int e = first; e < count; e += 2) {
+        DsmcEnsemble ens(c.dsmc, c.seed, static_cast<std::uint64_t>(e));
+        if (!ens.advance_to(0.001)) return;
+      }
+    };
+    std::thread one(work, 1), two(work, 2);
+    one.join();
+    two.join();
+    const std::uint64_t after = resident_bytes();
+    ASSERT_GT(after, 0u);
+    EXPECT_LT(after, before + 6 * array + (std::uint64_t{1} << 20))
+        << "n = " << n << ": resident memory grew from " << before << " to " << after
+        << " bytes over " << count - 1 << " ensembles";
+  }
 }

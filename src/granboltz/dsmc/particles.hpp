@@ -24,7 +24,7 @@ namespace detail {
 /// particle array per ensemble, to 19 GB for RW05's N = 10^4 ensembles of 65 536 particles.
 /// Each thread keeps its last freed block for its next ensemble, which then skips the kernel's
 /// page faults and zeroing.
-inline constexpr std::size_t kLargeBytes = std::size_t{1} << 18;  // 256 KiB
+inline constexpr std::size_t kLargeBytes = std::size_t{1} << 16;  // 64 KiB: n >= 2048
 inline constexpr std::size_t kHugeBytes = std::size_t{1} << 23;   // 8 MiB
 void* allocate_large(std::size_t bytes);
 void release_large(void* p, std::size_t bytes) noexcept;

@@ -22,7 +22,7 @@ struct ZigguratTables {
   // margin far above rounding (1e-13, against errors of order 1e-16 in L and in libm's exp). A
   // point below L + below[i] is under f, one at or above L + above[i] is not: the decision that
   // `y < exp(...)` would take, so the variates are the same bits, with exp called only in the
-  // narrow band between (1-2 % of the wedge tests instead of all of them).
+  // narrow band between (0.4-0.7 % of the wedge tests instead of all of them).
   double slope[N];
   double below[N];
   double above[N];
