@@ -547,3 +547,44 @@ dsmc:
   EXPECT_TRUE(in.exists("/accumulators/histogram_weight") && in.exists("/events/reductions") &&
               in.exists("/steady/histogram/mean") && in.exists("/accumulators/histogram_steady"));
 }
+
+// With few particles, lineages of light particles (each collision leaves the lighter partner
+// kappa/(1 + kappa) of its weight) outrun the roulette and the reduction; their weights reached
+// the underflow and the run ended in "ExactSum: non-finite value" after all its work. It now
+// stops at the first sweep where a weight is below 1e-250 of 1/n, saying what to raise, and
+// leaves no output. With kappa = 1 (the lighter partner keeps half its weight) the same runs
+// through.
+TEST(WeightedEnsemble, WeightsNearTheUnderflowStopTheRunWithAClearError) {
+  test::TempDir dir;
+  const std::string cfg = dir.write("c.yaml", R"(model: dsmc
+seed: 7
+ensembles: 4
+dsmc:
+  particles: 500
+  alpha: 0.1
+  beta: 30
+  gamma: 16
+  kernel: {lambda: 1, C: 0.07957747154594767}
+  t_end: 2
+  observe_every: 0.1
+  weights:
+    method: swpm
+    kappa: 0.25
+    max_particles: 1000
+    split: {radius: 7.5, rate: 0.49, power: 1.5, interval: 0.01, max_radius: 34}
+)");
+  const std::string out = dir.file("out.h5");
+  const auto r = test::run_granboltz("run " + cfg + " -q --threads 2 -o " + out);
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("dsmc.weights: a particle's weight fell to "), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("raise dsmc.weights.max_particles (now 1000) or dsmc.weights.kappa "
+                          "(now 0.25)"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(r.output.find("non-finite"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(out));
+  const auto fine = test::run_granboltz("run " + cfg + " -q --threads 2 -o " + out +
+                                        " --set dsmc.weights.kappa=1 --set ensembles=2");
+  EXPECT_EQ(fine.exit_code, 0) << fine.output;
+}

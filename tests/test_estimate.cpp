@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "granboltz/driver/estimate.hpp"
+#include "granboltz/driver/run.hpp"
 #include "granboltz/io/hdf5_io.hpp"
 #include "test_support.hpp"
 
@@ -23,6 +24,26 @@ dsmc:
   kernel: {lambda: 1, C: 0.0795774715459477}
   t_end: 2
   observe_every: 0.25
+)";
+
+// GRW05 Ex. 7 with weighted particles (SWPM, importance splitting), scaled down: the pilot
+// (10^5 candidates) sees about a quarter of ensemble 0.
+const char* kWeighted = R"(model: dsmc
+seed: 7
+ensembles: 4
+dsmc:
+  particles: 500
+  alpha: 0.1
+  beta: 30
+  gamma: 16
+  kernel: {lambda: 0, C: 0.07957747154594767}
+  t_end: 20
+  observe_every: 0.5
+  weights:
+    method: swpm
+    kappa: 0.25
+    max_particles: 1000
+    split: {radius: 16, rate: 0.73, interval: 0.0625, max_radius: 130}
 )";
 
 const char* kIntruder = R"(model: intruder
@@ -53,7 +74,8 @@ double total(const granboltz::H5Reader& in, const std::string& column) {
 
 // Runs `text` with `sets`, and compares the estimate with the counted events. The TV06 columns
 // count the events after the warm-up; the estimate is of the whole run, so it is scaled back.
-void expect_estimate_matches(const char* text, const std::vector<std::string>& sets) {
+void expect_estimate_matches(const char* text, const std::vector<std::string>& sets,
+                             double tolerance = 0.10) {
   TempDir dir;
   const std::string cfg = dir.write("c.yaml", text), out = dir.file("out.h5");
   std::string args;
@@ -83,7 +105,7 @@ void expect_estimate_matches(const char* text, const std::vector<std::string>& s
       EXPECT_EQ(c.estimated, 0.0) << label << c.name;
       continue;
     }
-    EXPECT_NEAR(c.estimated / c.counted, 1.0, 0.10)
+    EXPECT_NEAR(c.estimated / c.counted, 1.0, tolerance)
         << label << c.name << ": estimated " << c.estimated << ", counted " << c.counted;
   }
 }
@@ -101,6 +123,29 @@ TEST(Estimate, DsmcEventsAreWithinTenPercentOfCountedForEverySchemeAndMajorant) 
                                          "dsmc.gamma=1", "dsmc.beta=1", "dsmc.t_end=8"});
   expect_estimate_matches(kHardSpheres, {"dsmc.alpha=0.1", "dsmc.beta=30", "dsmc.gamma=16",
                                          "dsmc.t_end=0.1", "dsmc.observe_every=0.05"});
+}
+
+TEST(Estimate, WeightedParticleEventsFromThePilotMatchCounted) {
+  expect_estimate_matches(kWeighted, {});
+  // Hard spheres (GRW05 Ex. 8's importance function): the pilot sees the start of the
+  // temperature's rise (the real-collision rate grows as sqrt(T)) and of the majorant's growth as
+  // the tail fills, so it underestimates; the promise for lambda > 0 is a factor 1.5
+  // (docs/output.md; here 0.71, on the papers' weighted runs 0.8-1.1 in time).
+  expect_estimate_matches(kWeighted, {"dsmc.kernel.lambda=1", "dsmc.t_end=0.5", "dsmc.observe_every=0.05",
+                                      "dsmc.weights.kappa=1", "dsmc.weights.split.radius=7.5",
+                                      "dsmc.weights.split.rate=0.49", "dsmc.weights.split.power=1.5",
+                                      "dsmc.weights.split.interval=0.01", "dsmc.weights.split.max_radius=34"},
+                          0.5);
+}
+
+TEST(Estimate, WeightedParticleMemoryFollowsMaxParticles) {
+  granboltz::Config small = granboltz::parse_config(kWeighted, "c.yaml", {});
+  granboltz::Config large =
+      granboltz::parse_config(kWeighted, "c.yaml", {"dsmc.weights.max_particles=1000000"});
+  // A million weighted particles per thread take well over 32 bytes each (positions, weights,
+  // the sum tree): the estimate must grow with N_max, not stay with the initial n = 500.
+  EXPECT_GT(granboltz::estimate_memory(large, 2) - granboltz::estimate_memory(small, 2),
+            2u * 1000000u * 100u);
 }
 
 TEST(Estimate, Tv06EventsAreWithinTenPercentOfCounted) {

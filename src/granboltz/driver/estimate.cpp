@@ -1,13 +1,18 @@
 #include "granboltz/driver/estimate.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <utility>
 #include <vector>
 
+#include <gsl/gsl_cdf.h>
+
 #include "granboltz/driver/ensemble_driver.hpp"
 #include "granboltz/driver/run.hpp"
+#include "granboltz/dsmc/run.hpp"
+#include "granboltz/dsmc/weighted.hpp"
 #include "granboltz/random/rng.hpp"
 #include "granboltz/random/samplers.hpp"
 #include "granboltz/tv06/bath.hpp"
@@ -53,19 +58,13 @@ double gaussian_moment(double s2, double p) {
 }
 
 // Expected maximum of N independent |x|, x a 3-D standard Gaussian (chi with 3 degrees of
-// freedom): the 1 - 1/N quantile plus the Gumbel correction (Euler's constant / (N pdf)).
+// freedom): the 1 - 1/N quantile (GSL's inverse chi-squared tail) plus the Gumbel correction
+// (Euler's constant / (N pdf)).
 double chi3_expected_max(double N) {
   if (N < 2) return std::sqrt(8.0 / M_PI);
-  auto tail = [](double x) {
-    return std::erfc(x / M_SQRT2) + std::sqrt(2.0 / M_PI) * x * std::exp(-0.5 * x * x);
-  };
-  double lo = 0.0, hi = 60.0;
-  for (int k = 0; k < 200; ++k) {
-    const double mid = 0.5 * (lo + hi);
-    (tail(mid) * N > 1.0 ? lo : hi) = mid;
-  }
-  const double pdf = std::sqrt(2.0 / M_PI) * lo * lo * std::exp(-0.5 * lo * lo);
-  return lo + 0.5772156649 / (N * pdf);
+  const double x = std::sqrt(gsl_cdf_chisq_Qinv(1.0 / N, 3.0));
+  const double pdf = std::sqrt(2.0 / M_PI) * x * x * std::exp(-0.5 * x * x);
+  return x + 0.5772156649 / (N * pdf);
 }
 
 struct DsmcEvents {
@@ -118,6 +117,73 @@ DsmcEvents dsmc_events(const DsmcConfig& d) {
       e.kicks = n * static_cast<double>(d.steps);
   }
   return e;
+}
+
+// SWPM (dsmc.weights: swpm): the particle number, the majorant and the split and reduction
+// sweeps follow the weighted dynamics, which no closed form gives, so events and time are
+// measured on a pilot, ensemble 0 of the run itself, until it has drawn kPilotCandidates
+// candidates; the rates of its second half are extrapolated to t_end. The pilot stops at the
+// observations (a run kicks every particle there) and at least kPilotStops times in [0, t_end];
+// the kicks of its stops are not counted, those of the run's observations are added.
+constexpr double kPilotCandidates = 1e5;
+constexpr double kPilotStops = 64.0;
+
+struct WeightedCost {
+  DsmcEvents events;
+  double seconds = 0.0;  // one ensemble on one thread
+};
+
+WeightedCost weighted_cost(const DsmcConfig& d, std::uint64_t seed) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  WeightedEnsemble pilot(d, seed, 0);
+  const bool heated = d.thermostat == Thermostat::kWhiteNoise && d.beta > 0.0;
+  const std::vector<double> times = dsmc_times(d);
+  struct Mark {
+    double t, candidates, collisions, kicks, seconds;
+  };
+  double stop_kicks = 0.0, observation_kicks = 0.0;
+  std::vector<Mark> marks;
+  auto mark = [&](double t) {
+    const EventCounts& c = pilot.counts();
+    marks.push_back({t, static_cast<double>(c.collisions + c.fictitious),
+                     static_cast<double>(c.collisions), static_cast<double>(c.kicks) - stop_kicks,
+                     std::chrono::duration<double>(Clock::now() - start).count()});
+  };
+  mark(0.0);
+  std::size_t observed = 0;  // observations the pilot reached
+  for (std::size_t m = 1; m < times.size() && marks.back().candidates < kPilotCandidates; ++m) {
+    const double from = times[m - 1], to = times[m];
+    const double pieces = std::max(1.0, std::ceil((to - from) * kPilotStops / d.t_end));
+    for (double k = 1.0; k <= pieces && marks.back().candidates < kPilotCandidates; ++k) {
+      const double s = k == pieces ? to : from + (to - from) * k / pieces;
+      pilot.advance_to(s);
+      const double n = static_cast<double>(pilot.particles().size());
+      if (heated) stop_kicks += n;  // kick_all_to(s) at the end of advance_to
+      if (k == pieces) observation_kicks += heated ? n : 0.0, ++observed;
+      mark(s);
+    }
+  }
+  const Mark& last = marks.back();
+  // The rates of the pilot's second half (the particle number has left its initial value).
+  const Mark* half = &marks.front();
+  for (const Mark& x : marks)
+    if (x.t >= 0.5 * last.t && x.t < last.t) {
+      half = &x;
+      break;
+    }
+  const double ahead = d.t_end - last.t, span = last.t - half->t;
+  auto extrapolate = [&](double Mark::*x) {
+    return ahead > 0.0 && span > 0.0 ? last.*x + (last.*x - half->*x) / span * ahead : last.*x;
+  };
+  WeightedCost cost;
+  cost.events.candidates = extrapolate(&Mark::candidates);
+  cost.events.collisions = extrapolate(&Mark::collisions);
+  const double remaining = static_cast<double>(times.size() - 1 - observed);
+  cost.events.kicks = extrapolate(&Mark::kicks) + observation_kicks +
+                      (heated ? remaining * static_cast<double>(pilot.particles().size()) : 0.0);
+  cost.seconds = extrapolate(&Mark::seconds);
+  return cost;
 }
 
 // Per collision of a needle: rejected candidates of the thinning, Phi(|v1|, omega) against
@@ -227,13 +293,20 @@ RunEstimate estimate_run(const Config& config, unsigned threads) {
   double ns = 0.0;  // one thread, all ensembles
   if (config.model == Model::kDsmc) {
     const DsmcConfig& d = config.dsmc;
-    const DsmcEvents one = dsmc_events(d);
+    const double n = static_cast<double>(d.particles);
+    DsmcEvents one;
+    if (d.weights.swpm) {
+      const WeightedCost pilot = weighted_cost(d, config.seed);
+      one = pilot.events;
+      ns = N * pilot.seconds * 1e9;
+    } else {
+      one = dsmc_events(d);
+      ns = N * (one.candidates * ns_per_dsmc_event(n, d.majorant) +
+                n * static_cast<double>(d.observations() + 1) * kNsPerParticleObserved);
+    }
     e.collisions = N * one.collisions;
     e.fictitious = N * (one.candidates - one.collisions);
     e.kicks = N * one.kicks;
-    const double n = static_cast<double>(d.particles);
-    ns = N * (one.candidates * ns_per_dsmc_event(n, d.majorant) +
-              n * static_cast<double>(d.observations() + 1) * kNsPerParticleObserved);
   } else if (config.model == Model::kIntruder) {
     const IntruderConfig& c = config.intruder;
     const double per = static_cast<double>(c.warmup + c.collisions);

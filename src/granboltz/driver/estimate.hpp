@@ -10,7 +10,9 @@
 // collisions are the config's (warm-up included); the fictitious candidates from omega_max
 // against <phi(v1)> for the DSMC intruder, and for the needle's thinning (bound Phi(|v1|, omega)
 // against Phi(v_n, omega)) from a pilot ensemble of at most 20 000 collisions. Wall time: events
-// times a per-event cost measured on this machine (make bench).
+// times a per-event cost measured with make bench. Weighted particles (SWPM): events and time
+// from a pilot, ensemble 0 of the run up to 10^5 candidates, extrapolated to t_end (its wall time
+// is measured, so this part of the estimate is of this machine as it runs).
 #include <cstdint>
 #include <string>
 

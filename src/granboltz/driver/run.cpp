@@ -3,6 +3,7 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <bit>
 #include <chrono>
 #include <cstdlib>
 #include <cstring>
@@ -104,7 +105,16 @@ std::uint64_t estimate_memory(const Config& config, unsigned threads) {
     const DsmcConfig& d = config.dsmc;
     const double rows = static_cast<double>(d.observations() + 1);
     const double shells = d.histogram.shells ? static_cast<double>(d.histogram.shells + 1) : 0;
-    bytes += t * static_cast<double>(d.particles) * sizeof(Particle);
+    if (d.weights.swpm) {
+      // Up to N_max + 2 particles and weights, twice over (a split sweep's copies may outgrow
+      // the reserve before the reduction; the vector then moves), the sum tree (two doubles per
+      // leaf, leaves a power of two) and the reduction's and the split's sort keys (assumed).
+      const double cap = static_cast<double>(d.weights.max_particles + 2);
+      bytes += t * (cap * (2.0 * (sizeof(Particle) + 8.0) + 32.0) +
+                    16.0 * static_cast<double>(std::bit_ceil(d.weights.max_particles + 2)));
+    } else {
+      bytes += t * static_cast<double>(d.particles) * sizeof(Particle);
+    }
     if (d.majorant == MajorantKind::kPairwise) bytes += t * static_cast<double>(d.particles) * 8.0;
     const double scalars = kNumScalars + d.moments;
     bytes += t * rows * (scalars * 8.0 + shells * 8.0);      // per-ensemble observations
@@ -114,7 +124,8 @@ std::uint64_t estimate_memory(const Config& config, unsigned threads) {
     // A checkpoint is built in memory (io/hdf5_io.cpp): 32 bytes per particle in progress, and
     // a copy while it is written out.
     if (config.checkpoint.every_seconds > 0)
-      bytes += 2.0 * t * static_cast<double>(d.particles) * 32.0;
+      bytes += 2.0 * t * static_cast<double>(d.particles) * 32.0 +
+               (d.weights.swpm ? 2.0 * t * static_cast<double>(d.weights.max_particles) * 40.0 : 0.0);
   } else {
     bytes += tv06_memory_estimate(config, threads);
   }

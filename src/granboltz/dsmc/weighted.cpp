@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "granboltz/config/reader.hpp"
 #include "granboltz/physics/collision.hpp"
 #include "granboltz/physics/heating.hpp"
 #include "granboltz/random/samplers.hpp"
@@ -19,6 +20,13 @@ constexpr std::uint64_t kProgressMask = (1u << 18) - 1;
 // The reduction brings the count down to this fraction of N_max: with kappa > 0 a collision adds
 // two particles, so a reduction (O(n log n)) runs once per ~N_max/10 collisions.
 constexpr double kReduceTo = 0.8;
+// The lightest weight a run accepts, relative to the initial 1/n. A collision leaves the lighter
+// partner kappa/(1 + kappa) of its weight and gives its two new particles 1/(1 + kappa) of it; a
+// tail that keeps being split (an importance function flatter than the tail) feeds such lineages
+// until they underflow (1e-308) and the observables turn into NaN. 1e-250 is far below any weight
+// a tail needs (the papers' tails reach 1e-40, their lightest particles 1e-60) and far enough
+// above the underflow for the collisions between two checks.
+constexpr double kLightestWeight = 1e-250;
 }  // namespace
 
 // ---- Sum tree ----
@@ -357,6 +365,23 @@ void WeightedEnsemble::reduce_to_cap() {
                    static_cast<std::size_t>(kReduceTo * static_cast<double>(c_.weights.max_particles)),
                    c_.weights.reduction, reduce_);
   ++reductions_;
+  check_weights();
+}
+
+void WeightedEnsemble::check_weights() const {
+  const double g_ref = 1.0 / static_cast<double>(c_.particles);
+  const double lightest = g_.empty() ? g_ref : *std::min_element(g_.begin(), g_.end());
+  if (lightest >= kLightestWeight * g_ref) return;
+  // Measured: GRW05 Ex. 8 with n = N_max / 2 = 500 or 1000 stops before t = 2, with 2000 or
+  // kappa = 1 it does not (and the papers' N_max = 8000 runs to t = 4 with weights above 1e-50).
+  throw std::runtime_error(
+      "dsmc.weights: a particle's weight fell to " + format_real(lightest / g_ref) +
+      " of the initial 1/n at t = " + format_real(t_) +
+      ", below 1e-250, where its next collisions underflow: a lineage of light particles "
+      "collides faster than the split sweeps' roulette and the reduction remove it (each "
+      "collision leaves the lighter partner kappa/(1 + kappa) of its weight); raise "
+      "dsmc.weights.max_particles (now " + std::to_string(c_.weights.max_particles) +
+      ") or dsmc.weights.kappa (now " + format_real(c_.weights.kappa) + ")");
 }
 
 void WeightedEnsemble::split_sweep() {
@@ -377,6 +402,7 @@ void WeightedEnsemble::split_sweep() {
   }
   if (static_cast<double>(c.tail) < 0.125 * cap && split_scale_ > 1.0) split_scale_ *= 0.5;
   reduce_to_cap();
+  check_weights();
   rebuild_tree();
   if (c_.kernel.lambda != 0.0)
     for (const auto& q : p_) adapt_majorant(q.v);

@@ -118,6 +118,7 @@ class WeightedEnsemble {
   void kick_all_to(double s);
   void reduce_to_cap();
   void split_sweep();
+  void check_weights() const;  // throws if a weight has come near the underflow
 
   const DsmcConfig& c_;
   Particles p_;
