@@ -21,11 +21,11 @@ constexpr std::uint64_t kProgressMask = (1u << 18) - 1;
 // two particles, so a reduction (O(n log n)) runs once per ~N_max/10 collisions.
 constexpr double kReduceTo = 0.8;
 // The lightest weight a run accepts, relative to the initial 1/n. A collision leaves the lighter
-// partner kappa/(1 + kappa) of its weight and gives its two new particles 1/(1 + kappa) of it; a
-// tail that keeps being split (an importance function flatter than the tail) feeds such lineages
-// until they underflow (1e-308) and the observables turn into NaN. 1e-250 is far below any weight
-// a tail needs (the papers' tails reach 1e-40, their lightest particles 1e-60) and far enough
-// above the underflow for the collisions between two checks.
+// partner kappa/(1 + kappa) of its weight and gives its two new particles 1/(1 + kappa) of it;
+// with few particles such lineages can outrun the roulette and the reduction until they underflow
+// (1e-308) and the observables turn into NaN. 1e-250 is far below any weight a tail needs (the
+// papers' tails reach f/f(0) = 1e-40, their lightest particles about 1e-60 of 1/n) and far enough
+// above the underflow for the collisions between two checks (a factor 5 each for kappa = 1/4).
 constexpr double kLightestWeight = 1e-250;
 }  // namespace
 
@@ -372,7 +372,7 @@ void WeightedEnsemble::check_weights() const {
   const double g_ref = 1.0 / static_cast<double>(c_.particles);
   const double lightest = g_.empty() ? g_ref : *std::min_element(g_.begin(), g_.end());
   if (lightest >= kLightestWeight * g_ref) return;
-  // Measured: GRW05 Ex. 8 with n = N_max / 2 = 500 or 1000 stops before t = 2, with 2000 or
+  // Measured: GRW05 Ex. 8 with n = N_max / 2 = 500 or 1000 stops before t = 2, with n = 2000 or
   // kappa = 1 it does not (and the papers' N_max = 8000 runs to t = 4 with weights above 1e-50).
   throw std::runtime_error(
       "dsmc.weights: a particle's weight fell to " + format_real(lightest / g_ref) +
