@@ -43,13 +43,17 @@ def pyplot():
 
 
 def save_figure(fig, paths):
-    """Save `fig` to each path (format from the extension), each atomically; PDFs carry no
+    """Save `fig` to each path (format from the extension), each atomically, then close it (pyplot
+    keeps every open figure, and the tests run many scripts in one process); PDFs carry no
     creation date, so a rerun gives the same bytes."""
     for path in paths:
         fmt = os.path.splitext(path)[1][1:]
         metadata = {"CreationDate": None} if fmt == "pdf" else None
         with atomic_path(path) as tmp:
             fig.savefig(tmp, format=fmt, metadata=metadata)
+    import matplotlib.pyplot as plt
+
+    plt.close(fig)
 
 
 def figure_summary(ours, short, **numbers):
