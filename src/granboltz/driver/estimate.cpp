@@ -160,7 +160,10 @@ WeightedCost weighted_cost(const DsmcConfig& d, std::uint64_t seed) {
       pilot.advance_to(s);
       const double n = static_cast<double>(pilot.particles().size());
       if (heated) stop_kicks += n;  // kick_all_to(s) at the end of advance_to
-      if (k == pieces) observation_kicks += heated ? n : 0.0, ++observed;
+      if (k == pieces) {  // an observation of the run
+        ++observed;
+        if (heated) observation_kicks += n;
+      }
       mark(s);
     }
   }
