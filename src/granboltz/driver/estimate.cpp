@@ -23,8 +23,9 @@ namespace granboltz {
 
 namespace {
 
-// Nanoseconds per event (candidate) on one thread of this machine: `make bench`, median of 5,
-// README "Performance" table (2 cores of an AMD EPYC at 2.6 GHz). DSMC, global majorant:
+// Nanoseconds per event (candidate) on one thread: `make bench`, median of 5, README
+// "Performance" table (2 cores of an AMD EPYC at 2.6 GHz; the later Intel Xeon is 1.0-1.3 times
+// slower per event, so estimates there are optimistic by up to a quarter). DSMC, global majorant:
 // 37.5 ns at n = 4096 and 65536, 49.6 at n = 10^7 (cache misses); pairwise: 38.8, 43.5, 93 at
 // n = 10^4, 10^5, 10^6 (58.9, 67.7, 176 before its index streams, scaled by the new/old ratio
 // measured side by side on a later machine: 0.66, 0.64, 0.53). TV06: intruder Gillespie 117 per collision, intruder DSMC 19.9 per
