@@ -74,7 +74,7 @@ def main():
         g, p = med[f"peer_elastic_hs_n{tag}"], med[f"peer_pairwise_n{tag}"]
         choice = auto[float(n)]
         name = f"peer_pairwise_n{tag}" if choice == "pairwise" else f"peer_elastic_hs_n{tag}"
-        chosen = p if choice == "pairwise" else g
+        chosen = med[name]
         ratio = chosen / spa[n]
         # Each repetition ran SPARTA and granboltz within the same minute: their ratio is free of
         # the machine's slower drifts, and its spread shows how far one run can be trusted.
