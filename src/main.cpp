@@ -8,19 +8,21 @@
 #include <unistd.h>
 
 #include "granboltz/config/config.hpp"
+#include "granboltz/io/hdf5_io.hpp"
 #include "granboltz/io/merge.hpp"
+#include "granboltz/io/verify.hpp"
 #include "granboltz/driver/estimate.hpp"
 #include "granboltz/driver/run.hpp"
 #include "granboltz/version.hpp"
 
 namespace {
 
-// An interrupted run removes its temporary output, so nothing half-written is left behind.
-// SIGTERM to a run that checkpoints instead asks for a last checkpoint (then the run stops).
+// An interrupted run removes its temporary files (output, checkpoint, merge), so nothing
+// half-written is left behind. SIGTERM to a run that checkpoints instead asks for a last
+// checkpoint (then the run stops).
 extern "C" void on_signal(int sig) {
   if (sig == SIGTERM && granboltz::request_final_checkpoint()) return;
-  const char* tmp = granboltz::current_temporary_output();
-  if (tmp && tmp[0]) ::unlink(tmp);
+  granboltz::remove_temporaries_now();
   ::_exit(128 + sig);
 }
 
@@ -71,11 +73,16 @@ int main(int argc, char** argv) {
   merge->add_option("inputs", inputs, "shard outputs (HDF5)")->required();
   merge->add_option("-o,--output", output, "merged output (HDF5)")->required();
 
+  auto* verify = app.add_subcommand(
+      "verify", "check every dataset of outputs or checkpoints against its checksum");
+  verify->add_option("files", inputs, "granboltz outputs or checkpoints (HDF5)")->required();
+
   // Command-line errors are one line on stderr with exit code 2, like config errors; --help and
   // --version keep CLI11's output and exit code 0.
   if (argc == 1) {
     std::fprintf(stderr,
-                 "granboltz: error: a command is required: run, estimate, validate or merge "
+                 "granboltz: error: a command is required: run, estimate, validate, merge or "
+                 "verify "
                  "(see granboltz --help)\n");
     return 2;
   }
@@ -84,18 +91,17 @@ int main(int argc, char** argv) {
     if (option != "-h" && option != "--help" && option != "--version") {
       std::fprintf(stderr,
                    "granboltz: error: %s: unknown option; expected a command: run, estimate, "
-                   "validate or merge (see granboltz --help)\n",
+                   "validate, merge or verify (see granboltz --help)\n",
                    argv[1]);
       return 2;
     }
   } else {
     const std::string command = argv[1];
     if (command != "run" && command != "estimate" && command != "validate" &&
-        command != "merge") {
+        command != "merge" && command != "verify") {
       std::fprintf(stderr,
-                   "granboltz: error: %s: unknown command; expected run, estimate, validate or "
-                   "merge"
-                   " (see granboltz --help)\n",
+                   "granboltz: error: %s: unknown command; expected run, estimate, validate, "
+                   "merge or verify (see granboltz --help)\n",
                    argv[1]);
       return 2;
     }
@@ -118,6 +124,7 @@ int main(int argc, char** argv) {
 
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
+  std::signal(SIGHUP, on_signal);
   // Past `ulimit -f` a write fails with EFBIG and is reported like a full disk, instead of the
   // process being killed with the temporary file left behind.
   std::signal(SIGXFSZ, SIG_IGN);
@@ -126,6 +133,9 @@ int main(int argc, char** argv) {
       granboltz::merge_outputs(inputs, output);
       return 0;
     }
+    if (*verify) return granboltz::verify_files(inputs, std::cout, std::cerr) ? 0 : 1;
+    // Before the config is read: an output that must not be written fails at once.
+    if (*run) granboltz::check_output_path(output, {config_path, output + ".checkpoint"});
     granboltz::Config config = granboltz::load_config(config_path, sets);
     if (*validate) {
       std::cout << config.to_yaml(false);

@@ -16,6 +16,7 @@
 
 using granboltz::H5Reader;
 using granboltz::test::run_granboltz;
+using granboltz::test::spawn_granboltz;
 using granboltz::test::TempDir;
 
 namespace {
@@ -108,26 +109,6 @@ TEST(Sharding, MergeRefusesShardsThatDoNotMakeOneRun) {
   EXPECT_FALSE(std::filesystem::exists(dir.file("m.h5")));
 }
 
-namespace {
-
-// Starts granboltz with `args` in the background and returns its pid.
-pid_t spawn(const std::vector<std::string>& args) {
-  const pid_t pid = fork();
-  if (pid == 0) {
-    std::vector<char*> argv;
-    argv.push_back(const_cast<char*>(GRANBOLTZ_BINARY));
-    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    const int null = ::open("/dev/null", O_WRONLY);
-    dup2(null, 1);
-    dup2(null, 2);
-    execv(GRANBOLTZ_BINARY, argv.data());
-    _exit(127);
-  }
-  return pid;
-}
-
-}  // namespace
 
 TEST(Checkpoint, RunKilledAtRandomMomentsResumesToTheUninterruptedOutput) {
   TempDir dir;
@@ -161,7 +142,7 @@ dsmc:
   const std::string ckpt = out + ".checkpoint";
   for (int attempt = 0; attempt < 2; ++attempt) {
     const auto before = fs::exists(ckpt) ? fs::last_write_time(ckpt) : fs::file_time_type::min();
-    const pid_t pid = spawn({"run", cfg, "-q", "-o", out});
+    const pid_t pid = spawn_granboltz({"run", cfg, "-q", "-o", out});
     for (int i = 0; i < 3000; ++i) {  // until a (new) checkpoint appears, at most 30 s
       std::error_code ec;
       const auto t = fs::last_write_time(ckpt, ec);
@@ -191,7 +172,7 @@ TEST(Checkpoint, CheckpointOfAnotherConfigIsRefused) {
   TempDir dir;
   const std::string cfg = dir.write("c.yaml", kDsmc);
   const std::string out = dir.file("out.h5");
-  const pid_t pid = spawn({"run", cfg, "-q", "--set", "checkpoint.every_seconds=0.05", "--set",
+  const pid_t pid = spawn_granboltz({"run", cfg, "-q", "--set", "checkpoint.every_seconds=0.05", "--set",
                            "ensembles=100000", "-o", out});
   for (int i = 0; i < 200 && !std::filesystem::exists(out + ".checkpoint"); ++i)
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
@@ -234,7 +215,7 @@ dsmc:
     expect_ok(run_granboltz("run " + cfg + " -q -o " + reference));
     namespace fs = std::filesystem;
     const std::string ckpt = out + ".checkpoint";
-    const pid_t pid = spawn({"run", cfg, "-q", "-o", out});
+    const pid_t pid = spawn_granboltz({"run", cfg, "-q", "-o", out});
     for (int i = 0; i < 3000 && !fs::exists(ckpt); ++i)
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
@@ -275,7 +256,7 @@ dsmc:
   expect_ok(run_granboltz("run " + cfg + " -q --threads 2 -o " + reference));
   namespace fs = std::filesystem;
   const std::string ckpt = out + ".checkpoint";
-  const pid_t pid = spawn({"run", cfg, "-q", "--threads", "2", "-o", out});
+  const pid_t pid = spawn_granboltz({"run", cfg, "-q", "--threads", "2", "-o", out});
   // The hourly checkpoint is never due: only SIGTERM can make one. Signal once the run has its
   // temporary output (the signal handler is installed before it is created).
   for (int i = 0; i < 3000 && dir.entries() < 3; ++i)
@@ -303,7 +284,7 @@ dsmc:
 TEST(Checkpoint, SigtermToARunWithoutCheckpointsLeavesNothing) {
   TempDir dir;
   const std::string cfg = dir.write("c.yaml", kDsmc);
-  const pid_t pid = spawn({"run", cfg, "-q", "--set", "ensembles=100000", "-o", dir.file("o.h5")});
+  const pid_t pid = spawn_granboltz({"run", cfg, "-q", "--set", "ensembles=100000", "-o", dir.file("o.h5")});
   for (int i = 0; i < 3000 && dir.entries() < 2; ++i)
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   std::this_thread::sleep_for(std::chrono::milliseconds(100));

@@ -18,8 +18,13 @@
 #include "test_support.hpp"
 
 using granboltz::H5Reader;
+using granboltz::test::chunk_offset;
 using granboltz::test::CommandResult;
+using granboltz::test::flip_byte;
+using granboltz::test::read_all;
 using granboltz::test::run_granboltz;
+using granboltz::test::spawn_granboltz;
+using granboltz::test::wait_for_file;
 using granboltz::test::TempDir;
 namespace fs = std::filesystem;
 
@@ -56,36 +61,6 @@ dsmc:
   observe_every: 0.25
   histogram: {shells: 3000, radius: 5}
 )";
-
-// The file offset of the first chunk of a chunked dataset (H5Dget_chunk_info, HDF5 >= 1.10.5).
-haddr_t chunk_offset(const std::string& file, const std::string& dataset) {
-  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  const hid_t d = H5Dopen2(f, dataset.c_str(), H5P_DEFAULT);
-  const hid_t space = H5Dget_space(d);
-  hsize_t offset[3] = {0, 0, 0}, size = 0;
-  unsigned mask = 0;
-  haddr_t addr = HADDR_UNDEF;
-  H5Dget_chunk_info(d, space, 0, offset, &mask, &addr, &size);
-  H5Sclose(space);
-  H5Dclose(d);
-  H5Fclose(f);
-  return addr;
-}
-
-void flip_byte(const std::string& file, std::uint64_t at) {
-  std::fstream io(file, std::ios::in | std::ios::out | std::ios::binary);
-  io.seekg(static_cast<std::streamoff>(at));
-  char c = 0;
-  io.read(&c, 1);
-  c = static_cast<char>(c ^ 0x10);
-  io.seekp(static_cast<std::streamoff>(at));
-  io.write(&c, 1);
-}
-
-std::string read_all(const std::string& file) {
-  std::ifstream in(file, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
 
 // Runs granboltz under `sh -c "ulimit -f KIB; exec granboltz ARGS"`: writes past KIB KiB fail.
 CommandResult run_limited(int kib, const std::string& args) {
@@ -126,30 +101,6 @@ struct Tmpfs {
   }
   std::string file(const std::string& name) const { return dir.file(name); }
 };
-
-// Starts granboltz in the background; returns its pid.
-pid_t spawn(const std::vector<std::string>& args) {
-  const pid_t pid = fork();
-  if (pid == 0) {
-    std::vector<char*> argv{const_cast<char*>(GRANBOLTZ_BINARY)};
-    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    const int null = ::open("/dev/null", O_WRONLY);
-    dup2(null, 1);
-    dup2(null, 2);
-    execv(GRANBOLTZ_BINARY, argv.data());
-    _exit(127);
-  }
-  return pid;
-}
-
-bool wait_for(const std::string& file, double seconds) {
-  for (int i = 0; i < seconds * 100; ++i) {
-    if (fs::exists(file)) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
-  return false;
-}
 
 }  // namespace
 
@@ -234,8 +185,8 @@ TEST(Checksums, ResumeRefusesACheckpointWithAFlippedByte) {
   TempDir dir;
   const std::string cfg = dir.write("c.yaml", kCheckpointing), out = dir.file("out.h5");
   const std::string ckpt = out + ".checkpoint";
-  const pid_t pid = spawn({"run", cfg, "-q", "-o", out});
-  const bool written = wait_for(ckpt, 30);
+  const pid_t pid = spawn_granboltz({"run", cfg, "-q", "-o", out});
+  const bool written = wait_for_file(ckpt, 30);
   ::kill(pid, SIGKILL);
   waitpid(pid, nullptr, 0);
   ASSERT_TRUE(written);
@@ -321,8 +272,8 @@ TEST(FullDisk, CheckpointingRunOverASizeLimitKeepsTheLastGoodCheckpointUntouched
   TempDir dir;
   const std::string cfg = dir.write("c.yaml", kCheckpointing), out = dir.file("out.h5");
   const std::string ckpt = out + ".checkpoint";
-  const pid_t pid = spawn({"run", cfg, "-q", "-o", out});
-  const bool written = wait_for(ckpt, 30);
+  const pid_t pid = spawn_granboltz({"run", cfg, "-q", "-o", out});
+  const bool written = wait_for_file(ckpt, 30);
   ::kill(pid, SIGKILL);
   waitpid(pid, nullptr, 0);
   ASSERT_TRUE(written);
@@ -348,8 +299,8 @@ TEST(FullDisk, CheckpointThatNoLongerFitsOnATmpfsEndsTheRunAndKeepsThePreviousOn
   TempDir dir;
   const std::string cfg = dir.write("c.yaml", kCheckpointing), out = disk.file("out.h5");
   const std::string ckpt = out + ".checkpoint";
-  const pid_t pid = spawn({"run", cfg, "-q", "-o", out});
-  ASSERT_TRUE(wait_for(ckpt, 30));
+  const pid_t pid = spawn_granboltz({"run", cfg, "-q", "-o", out});
+  ASSERT_TRUE(wait_for_file(ckpt, 30));
   {  // fill the disk: the next checkpoint cannot be written
     std::ofstream filler(disk.file("filler"), std::ios::binary);
     const std::string block(4096, 'x');

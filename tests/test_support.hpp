@@ -1,17 +1,21 @@
 #pragma once
 // Helpers shared by the C++ tests: temporary directories, running the CLI, exact results for
 // Maxwell molecules, and confidence levels.
+#include <fcntl.h>
 #include <gsl/gsl_cdf.h>
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include "granboltz/config/config.hpp"
 #include "granboltz/dsmc/run.hpp"
@@ -92,15 +96,77 @@ inline void expect_identical_outputs(const std::string& a, const std::string& b)
   EXPECT_EQ(ra.attr_string("/", "config"), rb.attr_string("/", "config"));
 }
 
-/// Runs the granboltz binary with `args` (a shell-quoted string).
-inline CommandResult run_granboltz(const std::string& args) {
-  const std::string cmd = std::string(GRANBOLTZ_BINARY) + " " + args + " 2>&1";
+/// Runs the granboltz binary with `args` (a shell-quoted string); with `timeout_seconds`, killed
+/// after that long (exit code 137), so that a hang fails a test instead of blocking the suite.
+inline CommandResult run_granboltz(const std::string& args, int timeout_seconds = 0) {
+  const std::string limit =
+      timeout_seconds > 0 ? "timeout -s KILL " + std::to_string(timeout_seconds) + " " : "";
+  const std::string cmd = limit + std::string(GRANBOLTZ_BINARY) + " " + args + " 2>&1";
   FILE* pipe = ::popen(cmd.c_str(), "r");
   std::string out;
   std::array<char, 4096> buf;
   while (pipe && std::fgets(buf.data(), buf.size(), pipe)) out += buf.data();
   const int status = pipe ? ::pclose(pipe) : -1;
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+/// Starts the granboltz binary with `args` in the background (stdout and stderr to /dev/null,
+/// or to `log` when given); returns its pid.
+inline pid_t spawn_granboltz(const std::vector<std::string>& args, const std::string& log = "") {
+  const pid_t pid = fork();
+  if (pid == 0) {
+    std::vector<char*> argv{const_cast<char*>(GRANBOLTZ_BINARY)};
+    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    const int out = log.empty() ? ::open("/dev/null", O_WRONLY)
+                                : ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    dup2(out, 1);
+    dup2(out, 2);
+    execv(GRANBOLTZ_BINARY, argv.data());
+    _exit(127);
+  }
+  return pid;
+}
+
+/// Waits up to `seconds` for `file` to exist.
+inline bool wait_for_file(const std::string& file, double seconds) {
+  for (int i = 0; i < seconds * 100; ++i) {
+    if (std::filesystem::exists(file)) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return false;
+}
+
+/// The file offset of the first chunk of a chunked dataset (H5Dget_chunk_info, HDF5 >= 1.10.5).
+inline haddr_t chunk_offset(const std::string& file, const std::string& dataset) {
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  const hid_t d = H5Dopen2(f, dataset.c_str(), H5P_DEFAULT);
+  const hid_t space = H5Dget_space(d);
+  hsize_t offset[3] = {0, 0, 0}, size = 0;
+  unsigned mask = 0;
+  haddr_t addr = HADDR_UNDEF;
+  H5Dget_chunk_info(d, space, 0, offset, &mask, &addr, &size);
+  H5Sclose(space);
+  H5Dclose(d);
+  H5Fclose(f);
+  return addr;
+}
+
+/// Flips one bit of the byte at offset `at` of `file`.
+inline void flip_byte(const std::string& file, std::uint64_t at) {
+  std::fstream io(file, std::ios::in | std::ios::out | std::ios::binary);
+  io.seekg(static_cast<std::streamoff>(at));
+  char c = 0;
+  io.read(&c, 1);
+  c = static_cast<char>(c ^ 0x10);
+  io.seekp(static_cast<std::streamoff>(at));
+  io.write(&c, 1);
+}
+
+/// The bytes of a file.
+inline std::string read_all(const std::string& file) {
+  std::ifstream in(file, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
 /// The z-value such that `checks` simultaneous two-sided tests have family-wise level 0.999

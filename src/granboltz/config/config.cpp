@@ -3,6 +3,8 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <sys/stat.h>
+
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -67,9 +69,17 @@ Config parse_config(const std::string& yaml_text, const std::string& origin,
 }
 
 Config load_config(const std::string& path, const std::vector<std::string>& overrides) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec))
-    throw ConfigError(path + ": is a directory, not a config file");
+  // stat, not open: opening a FIFO would block until someone writes to it.
+  struct stat st{};
+  if (::stat(path.c_str(), &st) == 0) {
+    if (S_ISDIR(st.st_mode)) throw ConfigError(path + ": is a directory, not a config file");
+    if (!S_ISREG(st.st_mode))
+      throw ConfigError(path + ": is not a regular file (a FIFO or a device?), not a config file");
+    // A config is a few kilobytes; a huge file is a wrong path, not a config.
+    if (st.st_size > (1 << 20))
+      throw ConfigError(path + ": is " + std::to_string(st.st_size) +
+                        " bytes; a config file is at most 1 MiB");
+  }
   std::ifstream in(path);
   if (!in) throw ConfigError(path + ": cannot open config file");
   std::stringstream ss;

@@ -102,6 +102,9 @@ void for_each_ensemble(const std::vector<std::uint64_t>& ensembles, const Driver
       // A requested final checkpoint is taken like a due one; its callback ends the process.
       if (ticking && (std::chrono::steady_clock::now() >= next_tick || g_final_requested.load())) {
         lock.unlock();
+        // Cleared only if it was asked for before this checkpoint: a request that arrives while
+        // it is written (after its callback looked) is taken at the next turn, not lost.
+        const bool requested = g_final_requested.load();
         std::exception_ptr tick_error;
         try {
           options.tick();  // takes the caller's lock on its record
@@ -109,7 +112,7 @@ void for_each_ensemble(const std::vector<std::uint64_t>& ensembles, const Driver
           tick_error = std::current_exception();
         }
         lock.lock();
-        g_final_requested.store(false);  // a callback that did not end the process: go on
+        if (requested) g_final_requested.store(false);  // its callback did not end the process
         if (tick_error) {
           if (!error) error = tick_error;
           stop = true;

@@ -1,6 +1,7 @@
 #include "granboltz/driver/run.hpp"
 
 #include <signal.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <bit>
@@ -21,12 +22,11 @@
 #include "granboltz/io/output.hpp"
 #include "granboltz/dsmc/particles.hpp"
 #include "granboltz/tv06/run.hpp"
+#include "granboltz/version.hpp"
 
 namespace granboltz {
 
 namespace {
-
-char g_temporary[4096] = "";
 
 std::uint64_t available_memory() {
   std::ifstream in("/proc/meminfo");
@@ -52,51 +52,69 @@ std::string hostname() {
   return host;
 }
 
-// Removes temporary files "<path>.tmp.<pid>" left by runs that were killed.
-void remove_stale_temporaries(const std::string& path) {
-  namespace fs = std::filesystem;
-  const fs::path p(path);
-  const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
-  const std::string prefix = p.filename().string() + ".tmp.";
-  std::error_code ec;
-  for (const auto& entry : fs::directory_iterator(dir, ec)) {
-    const std::string name = entry.path().filename().string();
-    if (name.rfind(prefix, 0) != 0) continue;
-    const std::string pid = name.substr(prefix.size());
-    if (pid.empty() || pid.find_first_not_of("0123456789") != std::string::npos) continue;
-    if (::kill(static_cast<pid_t>(std::stol(pid)), 0) != 0 && errno == ESRCH)
-      fs::remove(entry.path(), ec);
-  }
-}
-
+// A checkpoint is trusted only as far as it is checked: it names the build that wrote it, the
+// hash of its config and a digest of every dataset (HDF5 recomputes its own checksums when a
+// file is edited, so they cannot tell an edited checkpoint from a sound one).
 void write_checkpoint(const std::string& path, const Config& config, const Record& record,
                       const std::function<void(H5Writer&)>& in_progress) {
   H5Writer out(path);
   record.write(out);
   in_progress(out);
-  out.attr("/", "config", config.to_yaml(true));
+  const std::string text = config.to_yaml(true);
+  out.attr("/", "config", text);
   out.attr("/", "shard_index", config.shard.index);
   out.attr("/", "shard_count", config.shard.count);
   out.attr("/", "saved_utc", utc_now());
+  out.attr("/", "kind", std::string("checkpoint"));
+  out.attr("/", "version", std::string(kVersion));
+  out.attr("/", "git_sha", std::string(kGitSha));
+  out.attr("/", "config_hash", text_hash(text));
+  out.attr("/", "digest", out.digest());
   out.commit();  // atomic: a checkpoint is either the old one or the new one
 }
 
 // The record saved by an earlier, interrupted run of the same config and shard, if any.
 bool load_checkpoint(const std::string& path, const Config& config, Record& record) {
-  if (!std::filesystem::exists(path)) return false;
+  struct stat st{};
+  if (::lstat(path.c_str(), &st) != 0) return false;
+  const std::string fix = "; delete it to start afresh, or write to another output";
+  if (!S_ISREG(st.st_mode))
+    throw ConfigError(path + ": the checkpoint is not a regular file" + fix);
   H5Reader in(path);
-  if (!in.has_attr("/", "config") || in.attr_string("/", "config") != config.to_yaml(true) ||
+  const std::string text = config.to_yaml(true);
+  auto attr = [&](const char* name) {
+    return in.has_attr("/", name) ? in.attr_string("/", name) : std::string("(none)");
+  };
+  if (attr("kind") != "checkpoint")
+    throw ConfigError(path + ": not a checkpoint of this granboltz (no kind attribute)" + fix);
+  const std::string built = attr("version") + " (" + attr("git_sha") + ")";
+  if (built != std::string(kVersion) + " (" + kGitSha + ")")
+    throw ConfigError(path + ": checkpoint written by granboltz " + built + ", this is " +
+                      kVersion + " (" + kGitSha + ")" + fix);
+  if (!in.has_attr("/", "config") || in.attr_string("/", "config") != text ||
+      !in.has_attr("/", "config_hash") || in.attr_uint64("/", "config_hash") != text_hash(text) ||
       in.attr_uint64("/", "shard_index") != config.shard.index ||
       in.attr_uint64("/", "shard_count") != config.shard.count)
-    throw ConfigError(path + ": checkpoint of a different config or shard; delete it to start "
-                      "afresh, or write to another output");
+    throw ConfigError(path + ": checkpoint of a different config or shard" + fix);
+  if (!in.has_attr("/", "digest") || in.attr_uint64("/", "digest") != in.digest())
+    throw ConfigError(path + ": the checkpoint's data do not match its digest (edited or "
+                      "damaged)" + fix);
   record.read(in);
+  // Only ensembles of this shard, each once (add_ensemble refuses repeats).
+  for (const std::uint64_t e : record.ensemble_indices())
+    if (e < config.first_ensemble() || e >= config.last_ensemble())
+      throw ConfigError(path + ": the checkpoint holds ensemble " + std::to_string(e) +
+                        ", which is not of this shard" + fix);
   return true;
 }
 
 }  // namespace
 
-const char* current_temporary_output() { return g_temporary; }
+std::uint64_t text_hash(const std::string& text) {
+  std::uint64_t h = 1469598103934665603ull;
+  for (const unsigned char c : text) h = (h ^ c) * 1099511628211ull;
+  return h;
+}
 
 std::uint64_t estimate_memory(const Config& config, unsigned threads) {
   const double t = threads;
@@ -147,11 +165,9 @@ void run_to_file(const Config& config, const std::string& path, const DriverOpti
                       " is available; reduce particles, threads or observation times");
 
   const std::string checkpoint = path + ".checkpoint";
-  remove_stale_temporaries(path);
-  remove_stale_temporaries(checkpoint);
-  // Create the output first, so that an unwritable path fails before hours of work.
+  // Create the output first, so that an unwritable path fails before hours of work, and a second
+  // run on the same output is refused before it reads or writes the checkpoint.
   H5Writer out(path);
-  std::strncpy(g_temporary, out.temp_path().c_str(), sizeof g_temporary - 1);
   const std::string started = utc_now();
   const auto start = std::chrono::steady_clock::now();
 
@@ -174,7 +190,7 @@ void run_to_file(const Config& config, const std::string& path, const DriverOpti
       if (final_checkpoint_requested()) {
         std::fprintf(stderr, "[granboltz] %s: SIGTERM: checkpoint written to %s, stopping\n",
                      options.label.c_str(), checkpoint.c_str());
-        ::unlink(g_temporary);
+        remove_temporaries_now();
         std::_Exit(128 + SIGTERM);
       }
     };
@@ -197,7 +213,6 @@ void run_to_file(const Config& config, const std::string& path, const DriverOpti
                 {"host", hostname()},
                 {"build", std::string(GRANBOLTZ_BUILD_TYPE) + ", " GRANBOLTZ_COMPILER}});
   out.commit();
-  g_temporary[0] = '\0';
   std::error_code ec;
   std::filesystem::remove(checkpoint, ec);  // the output now holds everything
 }

@@ -16,7 +16,7 @@ std::uint64_t estimate_memory(const Config& config, unsigned threads);
 void run_to_file(const Config& config, const std::string& path, const DriverOptions& options,
                  const std::string& command);
 
-/// The temporary output file being written, for removal by a signal handler ("" if none).
-const char* current_temporary_output();
+/// A 64-bit hash of a text (FNV-1a), as stored in checkpoints for their config.
+std::uint64_t text_hash(const std::string& text);
 
 }  // namespace granboltz

@@ -599,6 +599,20 @@ DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, const H5Reader& in, const s
   if (!rows || p_.size() != n || scalars.size() != 7 || ring_index.size() != 2 * kLookahead ||
       counters.size() != 5 || counters[0] >= kLookahead)
     throw std::runtime_error(in.path() + ": malformed ensemble state " + g);
+  // Every field against its invariants: a state that does not fit is refused here, not met as a
+  // crash (an index out of range), a hang (a time that never reaches t_end) or other numbers.
+  auto refuse = [&](const std::string& what) {
+    throw std::runtime_error(in.path() + ": malformed ensemble state " + g + ": " + what);
+  };
+  if (!(scalars[0] >= 0.0 && scalars[0] <= c_.t_end)) refuse("time outside [0, t_end]");
+  for (int k = 1; k < 7; ++k)
+    if (!std::isfinite(scalars[k])) refuse("a non-finite scalar");
+  if (!(scalars[4] >= 0.0)) refuse("a negative majorant u_max");
+  for (const Particle& q : p_)
+    if (!(q.t >= 0.0 && q.t <= scalars[0])) refuse("a particle's time outside [0, t]");
+  for (unsigned k = 0; k < kLookahead; ++k)
+    if (ring_index[2 * k] >= n || ring_index[2 * k + 1] >= n) refuse("a pair index out of range");
+  if (counters[4] > 2 * n) refuse("a sweep countdown beyond 2n");
   t_ = scalars[0];
   v0_ = {scalars[1], scalars[2], scalars[3]};
   set_majorant(scalars[4]);
@@ -611,6 +625,9 @@ DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, const H5Reader& in, const s
     const std::vector<double> w = in.read_double(g + "/weights");
     w_.assign(w.begin(), w.end());
     if (w_.size() != n) throw std::runtime_error(in.path() + ": malformed weights in " + g);
+    for (const double x : w)
+      if (!(x >= 0.0 && x <= scalars[6])) refuse("a pair weight outside [0, w_max]");
+    if (!(scalars[5] > 0.0)) refuse("the weights' sum not positive");
     w_sum_ = scalars[5];
     set_w_max(scalars[6]);
     refresh_countdown_ = counters[4];

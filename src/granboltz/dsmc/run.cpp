@@ -77,6 +77,20 @@ struct InProgress {
   std::vector<double> whist;           // swpm: [rows * K1] weight per shell
 };
 
+// An observable that overflowed: named with the values that make a run overflow, instead of
+// the exact sums' bare refusal of a non-finite number.
+[[noreturn]] void throw_not_finite(int k, double value, double t, std::uint64_t e) {
+  const char* name = "an observable";
+  for (const auto& o : kObservables) {
+    const int width = o.rank == 0 ? 1 : o.rank == 1 ? 3 : 9;
+    if (k >= o.offset && k < o.offset + width) name = o.name;
+  }
+  throw std::runtime_error(std::string("dsmc: ") + name + " = " + format_real(value) +
+                           " at t = " + format_real(t) + " in ensemble " + std::to_string(e) +
+                           ": the simulation overflowed; are dsmc.beta, dsmc.initial_temperature "
+                           "or dsmc.kernel.C far too large?");
+}
+
 std::string in_progress_group(std::uint64_t e) { return "/in_progress/" + std::to_string(e); }
 
 void save_in_progress(H5Writer& out, std::uint64_t e, const InProgress& w) {
@@ -248,6 +262,8 @@ void run_dsmc(const Config& config, const DriverOptions& options, Record& record
     leave.now();
     auto& series = record.moments("series");
     for (std::uint64_t m = 0; m < rows; ++m) {
+      for (int k = 0; k < kNumScalars; ++k)
+        if (!std::isfinite(w.obs[m][k])) throw_not_finite(k, w.obs[m][k], times[m], e);
       for (int k = 0; k < kNumScalars; ++k) series[m * kNumScalars + k].add(w.obs[m][k]);
       const double* moments = w.moments.data() + m * P;
       if (P) {

@@ -515,6 +515,16 @@ WeightedEnsemble::WeightedEnsemble(const DsmcConfig& config, const H5Reader& in,
   if (!rows || n < 2 || n > config.weights.max_particles || scalars.size() != 6 ||
       counters.size() != 5 || !std::all_of(g_.begin(), g_.end(), [](double w) { return w > 0.0; }))
     throw std::runtime_error(in.path() + ": malformed weighted ensemble state " + g);
+  // Every field against its invariants (see DsmcEnsemble's restore).
+  auto refuse = [&](const std::string& what) {
+    throw std::runtime_error(in.path() + ": malformed weighted ensemble state " + g + ": " + what);
+  };
+  if (!(scalars[0] >= 0.0 && scalars[0] <= config.t_end)) refuse("time outside [0, t_end]");
+  for (int k = 1; k < 6; ++k)
+    if (!std::isfinite(scalars[k])) refuse("a non-finite scalar");
+  if (!(scalars[4] >= 0.0) || !(scalars[5] >= 0.0)) refuse("a negative u_max or split scale");
+  for (const Particle& q : p_)
+    if (!(q.t >= 0.0 && q.t <= scalars[0])) refuse("a particle's time outside [0, t]");
   t_ = scalars[0];
   v0_ = {scalars[1], scalars[2], scalars[3]};
   u_max_ = scalars[4];

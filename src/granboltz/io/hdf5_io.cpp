@@ -1,12 +1,17 @@
 #include "granboltz/io/hdf5_io.hpp"
 
 #include <fcntl.h>
+#include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <atomic>
 #include <cerrno>
-#include <cstring>
-
+#include <charconv>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <stdexcept>
 
@@ -14,13 +19,67 @@ namespace granboltz {
 
 namespace {
 
-// HDF5 prints its error stack by default; we report errors ourselves, once.
-struct SilenceHdf5 {
-  SilenceHdf5() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
-};
-const SilenceHdf5 kSilence;
-
 [[noreturn]] void fail(const std::string& what) { throw std::runtime_error(what); }
+
+// The temporary files this process has open, for a signal handler to remove: fixed slots of
+// fixed size, claimed and released with atomics (no allocation, no lock in the handler).
+constexpr int kSlots = 16;
+constexpr std::size_t kSlotPath = 4096;
+char g_slot_path[kSlots][kSlotPath];
+std::atomic<bool> g_slot_live[kSlots];
+std::atomic<bool> g_slot_taken[kSlots];
+
+int claim_slot(const std::string& path) {
+  if (path.size() >= kSlotPath) return -1;
+  for (int k = 0; k < kSlots; ++k) {
+    bool expected = false;
+    if (!g_slot_taken[k].compare_exchange_strong(expected, true)) continue;
+    std::memcpy(g_slot_path[k], path.c_str(), path.size() + 1);
+    g_slot_live[k].store(true);
+    return k;
+  }
+  return -1;  // more than kSlots writers at once: that file is not removed by a signal
+}
+
+void release_slot(int k) {
+  if (k < 0) return;
+  g_slot_live[k].store(false);
+  g_slot_taken[k].store(false);
+}
+
+std::string file_kind(mode_t mode) {
+  if (S_ISFIFO(mode)) return "a FIFO";
+  if (S_ISCHR(mode)) return "a character device";
+  if (S_ISBLK(mode)) return "a block device";
+  if (S_ISSOCK(mode)) return "a socket";
+  if (S_ISLNK(mode)) return "a symbolic link";
+  if (S_ISDIR(mode)) return "a directory";
+  return "not a regular file";
+}
+
+// The pid in a temporary name "<name>.tmp.<pid>" or "<name>.tmp.<pid>.<suffix>", 0 if the name
+// does not parse (it is then not one of ours and is left alone).
+long temporary_pid(const std::string& rest) {
+  const std::string digits = rest.substr(0, rest.find('.'));
+  long pid = 0;
+  const auto res = std::from_chars(digits.data(), digits.data() + digits.size(), pid);
+  if (digits.empty() || res.ec != std::errc() || res.ptr != digits.data() + digits.size())
+    return 0;
+  return pid;
+}
+
+// 64-bit FNV-1a, to combine the per-dataset hashes with their names, types and shapes.
+struct Fnv {
+  std::uint64_t h = 1469598103934665603ull;
+  void add(const void* data, std::size_t n) {
+    const auto* b = static_cast<const unsigned char*>(data);
+    for (std::size_t i = 0; i < n; ++i) h = (h ^ b[i]) * 1099511628211ull;
+  }
+  template <class T>
+  void value(T x) {
+    add(&x, sizeof x);
+  }
+};
 
 // True if the current HDF5 error stack reports a checksum mismatch (Fletcher32 on chunks, or the
 // metadata checksums of object headers), so that the message can say so.
@@ -50,6 +109,29 @@ void fix_superblock_checksum(std::vector<unsigned char>& image) {
   for (int k = 0; k < 4; ++k) image[end + k] = static_cast<unsigned char>(sum >> (8 * k));
 }
 
+// The hash of one dataset: its path, type (class, size, sign), shape and stored bytes.
+std::uint64_t dataset_hash(const std::string& path, int type_class, std::size_t type_size,
+                           int sign, const Dims& dims, const void* bytes, std::size_t n) {
+  Fnv f;
+  f.add(path.data(), path.size());
+  f.value(type_class);
+  f.value(type_size);
+  f.value(sign);
+  f.value(dims.size());
+  for (auto d : dims) f.value(static_cast<std::uint64_t>(d));
+  f.value(static_cast<std::uint64_t>(n));
+  f.value(n ? H5_checksum_metadata(bytes, n, 0) : 0u);
+  f.value(n ? H5_checksum_metadata(bytes, n, 0x9e3779b9u) : 0u);
+  return f.h;
+}
+
+std::uint64_t combine(std::vector<std::pair<std::string, std::uint64_t>> hashes) {
+  std::sort(hashes.begin(), hashes.end());
+  Fnv f;
+  for (const auto& [path, h] : hashes) f.value(h);
+  return f.h;
+}
+
 hsize_t product(const Dims& dims) {
   hsize_t n = 1;
   for (auto d : dims) n *= d;
@@ -66,17 +148,94 @@ struct Handle {  // closes an HDF5 id with the right function
 
 }  // namespace
 
-H5Writer::H5Writer(const std::string& path)
-    : path_(path), tmp_(path + ".tmp." + std::to_string(::getpid())) {
-  // Refused here, before any work, rather than when the finished file is renamed into place.
+void silence_hdf5_errors() {
+  thread_local bool done = false;
+  if (!done) H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  done = true;
+}
+
+void remove_temporaries_now() noexcept {
+  for (int k = 0; k < kSlots; ++k)
+    if (g_slot_live[k].load()) ::unlink(g_slot_path[k]);
+}
+
+void check_output_path(const std::string& path, const std::vector<std::string>& inputs) {
   if (path.empty()) fail("the output path is empty");
-  std::error_code ec;
-  if (path.back() == '/' || std::filesystem::is_directory(path, ec))
-    fail(path + ": is a directory; give the output file's name");
-  fd_ = ::open(tmp_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (path.back() == '/') fail(path + ": is a directory; give the output file's name");
+  namespace fs = std::filesystem;
+  const fs::path p(path);
+  const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
+  struct stat d{};
+  if (::stat(dir.c_str(), &d) != 0 || !S_ISDIR(d.st_mode))
+    fail(path + ": directory " + dir.string() + " does not exist; create it first");
+  struct stat st{};
+  if (::lstat(path.c_str(), &st) != 0) return;  // a new file
+  if (S_ISDIR(st.st_mode)) fail(path + ": is a directory; give the output file's name");
+  if (!S_ISREG(st.st_mode))
+    fail(path + ": exists and is " + file_kind(st.st_mode) +
+         "; an output is written only as a new or a regular file");
+  for (const auto& in : inputs) {
+    struct stat is{};
+    if (!in.empty() && ::stat(in.c_str(), &is) == 0 && is.st_dev == st.st_dev &&
+        is.st_ino == st.st_ino)
+      fail(path + ": is the input " + in + " (the same file); the output must be another file");
+  }
+}
+
+void check_input_file(const std::string& path, const std::string& what) {
+  struct stat st{};
+  if (::stat(path.c_str(), &st) != 0)
+    fail(path + (errno == ENOENT ? std::string(": no such file")
+                                 : ": cannot open " + what + " (" + std::strerror(errno) + ")"));
+  if (S_ISDIR(st.st_mode)) fail(path + ": is a directory, not " + what);
+  if (!S_ISREG(st.st_mode)) fail(path + ": is " + file_kind(st.st_mode) + ", not " + what);
+}
+
+H5Writer::H5Writer(const std::string& path) : path_(path) {
+  silence_hdf5_errors();
+  // Refused here, before any work, rather than when the finished file is renamed into place.
+  check_output_path(path);
+  // A fresh name that no one can have planted: mkostemp creates it with O_EXCL, which neither
+  // follows nor reuses an existing name (a symbolic link there is not written through).
+  std::string name = path + ".tmp." + std::to_string(::getpid()) + ".XXXXXX";
+  fd_ = ::mkostemp(name.data(), O_CLOEXEC);
   if (fd_ < 0)
     fail(path + ": cannot create output file (" + std::strerror(errno) +
-         "; does the directory exist and is it writable?)");
+         "; is the directory writable?)");
+  tmp_ = name;
+  ::fchmod(fd_, 0644);
+  slot_ = claim_slot(tmp_);
+  // Held until the finished file is in place: a second run on the same output sees it below.
+  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+    discard();
+    fail(path + ": cannot lock the temporary output file (" + std::strerror(errno) + ")");
+  }
+  {
+    namespace fs = std::filesystem;
+    const fs::path p(path);
+    const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
+    const std::string prefix = p.filename().string() + ".tmp.";
+    const std::string own = fs::path(tmp_).filename().string();
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(dir, ec)) {
+      const std::string other = entry.path().filename().string();
+      if (other.rfind(prefix, 0) != 0 || other == own) continue;
+      const long pid = temporary_pid(other.substr(prefix.size()));
+      if (pid <= 0) continue;
+      struct stat st{};
+      if (::lstat(entry.path().c_str(), &st) != 0 || !S_ISREG(st.st_mode)) continue;
+      const int fd = ::open(entry.path().c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+      if (fd < 0) continue;
+      const bool held = ::flock(fd, LOCK_EX | LOCK_NB) != 0 && errno == EWOULDBLOCK;
+      if (!held) ::unlink(entry.path().c_str());  // its writer is gone
+      ::close(fd);
+      if (held) {
+        discard();
+        fail(path + ": another process (pid " + std::to_string(pid) +
+             ") is writing this output now; wait for it or choose another output");
+      }
+    }
+  }
   // The file is built in memory (HDF5's core driver, no backing store) and written out by
   // commit() alone. HDF5 then never meets a failing write: after one, HDF5 1.10 cannot close the
   // file, and its exit handler crashes on the half-closed file (SIGSEGV on a full disk).
@@ -98,11 +257,15 @@ void H5Writer::discard() {
   if (file_ >= 0) H5Fclose(file_);  // in memory: nothing to flush, cannot fail on the disk
   file_ = -1;
   if (fd_ >= 0) {
+    ::unlink(tmp_.c_str());  // while still locked, so that no one takes it for a stale file
     ::close(fd_);
-    ::unlink(tmp_.c_str());
   }
   fd_ = -1;
+  release_slot(slot_);
+  slot_ = -1;
 }
+
+std::uint64_t H5Writer::digest() const { return combine(digests_); }
 
 void H5Writer::group(const std::string& path) {
   if (H5Lexists(file_, path.c_str(), H5P_DEFAULT) > 0) return;
@@ -143,6 +306,10 @@ void H5Writer::write_raw(const std::string& path, hid_t mem_type, hid_t file_typ
   if (ds.id < 0) fail(path_ + ": cannot create dataset " + path);
   if (product(dims) > 0 && H5Dwrite(ds.id, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)
     fail(path_ + ": cannot write dataset " + path);
+  const int sign = H5Tget_class(file_type) == H5T_INTEGER ? static_cast<int>(H5Tget_sign(file_type)) : -1;
+  digests_.emplace_back(path, dataset_hash(path, static_cast<int>(H5Tget_class(file_type)),
+                                           H5Tget_size(file_type), sign, dims, data,
+                                           product(dims) * H5Tget_size(file_type)));
 }
 
 void H5Writer::write(const std::string& path, const std::vector<double>& data, const Dims& dims) {
@@ -216,24 +383,37 @@ void H5Writer::commit() {
     }
     done += static_cast<std::size_t>(n);
   }
-  const int fd = fd_;
-  fd_ = -1;
-  if (::fsync(fd) != 0 || ::close(fd) != 0) {
+  if (::fsync(fd_) != 0) {
     const std::string why = std::strerror(errno);
-    ::unlink(tmp_.c_str());
+    discard();
     fail(path_ + ": cannot write the file (" + why + "); nothing was written to " + path_);
+  }
+  // Checked again: the output may have been replaced by a FIFO or a link since the start.
+  struct stat st{};
+  if (::lstat(path_.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
+    discard();
+    fail(path_ + ": is now " + file_kind(st.st_mode) + "; nothing was written to it");
   }
   if (std::rename(tmp_.c_str(), path_.c_str()) != 0) {
     const std::string why = std::strerror(errno);
-    ::unlink(tmp_.c_str());
+    discard();
     fail(path_ + ": cannot move the finished file into place (" + why + ")");
   }
+  release_slot(slot_);  // the name is the output's now: a signal must not remove it
+  slot_ = -1;
+  const int fd = fd_;
+  fd_ = -1;
+  if (::close(fd) != 0)
+    fail(path_ + ": cannot close the file (" + std::strerror(errno) + ")");
 }
 
 H5Reader::H5Reader(const std::string& path) : path_(path) {
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) fail(path + ": no such file");
-  if (std::filesystem::is_directory(path, ec)) fail(path + ": is a directory, not an HDF5 file");
+  silence_hdf5_errors();
+  struct stat st{};
+  if (::stat(path.c_str(), &st) != 0) fail(path + ": no such file");
+  if (S_ISDIR(st.st_mode)) fail(path + ": is a directory, not an HDF5 file");
+  // A FIFO would block HDF5's open, a device would be read without end.
+  if (!S_ISREG(st.st_mode)) fail(path + ": is " + file_kind(st.st_mode) + ", not an HDF5 file");
   if (H5Fis_hdf5(path.c_str()) <= 0)
     fail(path + ": not a readable HDF5 file");
   file_ = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
@@ -353,6 +533,40 @@ std::vector<std::string> H5Reader::datasets() const {
   if (H5Ovisit(file_, H5_INDEX_NAME, H5_ITER_INC, visit, &names) < 0)
     fail(path_ + ": cannot list datasets (corrupt file?)");
   return names;
+}
+
+std::vector<std::string> H5Reader::damaged() const {
+  std::vector<std::string> out;
+  std::vector<std::string> names;
+  try {
+    names = datasets();
+  } catch (const std::runtime_error&) {
+    return {"/: the file's index of objects is unreadable"};
+  }
+  for (const auto& name : names) {
+    try {
+      read_bytes(name);
+    } catch (const std::runtime_error& e) {
+      const std::string what = e.what();
+      const std::string prefix = path_ + ": ";
+      out.push_back(what.rfind(prefix, 0) == 0 ? what.substr(prefix.size()) : what);
+    }
+  }
+  return out;
+}
+
+std::uint64_t H5Reader::digest() const {
+  std::vector<std::pair<std::string, std::uint64_t>> hashes;
+  for (const auto& name : datasets()) {
+    Handle ds{open_dataset(name), H5Dclose};
+    Handle type{H5Dget_type(ds.id), H5Tclose};
+    const H5T_class_t cls = H5Tget_class(type.id);
+    const int sign = cls == H5T_INTEGER ? static_cast<int>(H5Tget_sign(type.id)) : -1;
+    const std::vector<unsigned char> bytes = read_bytes(name);
+    hashes.emplace_back(name, dataset_hash(name, static_cast<int>(cls), H5Tget_size(type.id), sign,
+                                           dims(name), bytes.data(), bytes.size()));
+  }
+  return combine(hashes);
 }
 
 }  // namespace granboltz

@@ -7,15 +7,38 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace granboltz {
 
 using Dims = std::vector<hsize_t>;
 
+/// Refuses, before any work, an output path that must not be written: one that exists and is not
+/// a regular file (a FIFO, a device, a symbolic link, a directory), whose directory does not
+/// exist, or that is one of `inputs` by device and inode (a hard link or another spelling of a
+/// config, shard or checkpoint the run reads). Throws std::runtime_error naming the path.
+void check_output_path(const std::string& path, const std::vector<std::string>& inputs = {});
+
+/// Refuses an input that is not a regular file (a FIFO would block the reader, a device would be
+/// read without end); throws std::runtime_error naming the path. Follows symbolic links.
+void check_input_file(const std::string& path, const std::string& what);
+
+/// Removes every temporary file that an H5Writer of this process has open. Async-signal-safe:
+/// for signal handlers, which then end the process.
+void remove_temporaries_now() noexcept;
+
+/// Turns HDF5's automatic printing of its error stack off for the calling thread (the setting is
+/// per thread in a thread-safe HDF5); every H5Reader and H5Writer calls it.
+void silence_hdf5_errors();
+
 class H5Writer {
  public:
-  /// Creates `path`.tmp.<pid>; throws std::runtime_error naming the path if it cannot.
+  /// Checks `path` (check_output_path without inputs), creates a fresh temporary file beside it
+  /// (`path`.tmp.<pid>.<random>, never following or replacing an existing name) and takes an
+  /// exclusive advisory lock on it, held until the file is in place. Temporary files of the same
+  /// output left by processes that died are removed; one that another process holds locked means
+  /// a second run on the same output, which is refused. Throws std::runtime_error naming the path.
   explicit H5Writer(const std::string& path);
   ~H5Writer();  ///< removes the temporary file unless commit() succeeded
   H5Writer(const H5Writer&) = delete;
@@ -35,6 +58,10 @@ class H5Writer {
   /// limit) removes the temporary file and throws a one-line message naming the path.
   void commit();
   const std::string& temp_path() const { return tmp_; }
+  /// A hash of every dataset written so far (path, type, shape and bytes, in path order), equal
+  /// to H5Reader::digest of the finished file: a checkpoint stores it, so that an edited
+  /// checkpoint is refused even though HDF5 recomputed its checksums.
+  std::uint64_t digest() const;
 
  private:
   void write_raw(const std::string& path, hid_t mem_type, hid_t file_type, const void* data,
@@ -42,7 +69,9 @@ class H5Writer {
   void discard();  // closes everything and removes the temporary file
   std::string path_, tmp_;
   hid_t file_ = -1;
-  int fd_ = -1;  // the temporary file, created at once so that a bad path fails early
+  int fd_ = -1;    // the temporary file, created at once so that a bad path fails early
+  int slot_ = -1;  // its entry in the registry of temporary files (remove_temporaries_now)
+  std::vector<std::pair<std::string, std::uint64_t>> digests_;  // dataset path, content hash
 };
 
 class H5Reader {
@@ -65,6 +94,12 @@ class H5Reader {
   const std::string& path() const { return path_; }
   /// Absolute paths of all datasets, in name order.
   std::vector<std::string> datasets() const;
+  /// Reads every dataset in full (so that HDF5 checks every chunk's Fletcher32 and every object
+  /// header's checksum) and returns one line per dataset that fails ("/a/b: checksum mismatch"),
+  /// empty when the file is sound.
+  std::vector<std::string> damaged() const;
+  /// The hash of all datasets that H5Writer::digest gives for the same content.
+  std::uint64_t digest() const;
 
  private:
   void read_raw(const std::string& path, hid_t mem_type, void* out, std::size_t count) const;

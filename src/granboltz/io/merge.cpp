@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "granboltz/io/output.hpp"
+#include "granboltz/io/verify.hpp"
 
 namespace granboltz {
 
@@ -32,11 +33,26 @@ void check_merge_output(const std::vector<std::string>& inputs, const std::strin
 void merge_outputs(const std::vector<std::string>& inputs, const std::string& output) {
   if (inputs.empty()) throw ConfigError("merge: no input files");
   check_merge_output(inputs, output);
+  check_output_path(output, inputs);
+  // Every dataset of every input, not only the accumulators the merge reads: a damaged input is
+  // named even where its damage would not reach the merged output.
+  for (const auto& path : inputs) {
+    check_input_file(path, "an HDF5 file");
+    const std::vector<std::string> problems = file_problems(path);
+    if (!problems.empty())
+      throw std::runtime_error(path + ": " + problems.front() +
+                               (problems.size() > 1 ? " (and " + std::to_string(problems.size() - 1) +
+                                                          " more damaged datasets)"
+                                                    : std::string()));
+  }
   std::string config_text, version;
   Config config;
   Record record;
   for (std::size_t i = 0; i < inputs.size(); ++i) {
     H5Reader in(inputs[i]);
+    if (in.has_attr("/", "kind") && in.attr_string("/", "kind") == "checkpoint")
+      throw ConfigError(inputs[i] + ": is the checkpoint of an unfinished run, not an output; "
+                        "finish the run (granboltz run resumes from it) and merge its output");
     const Config c = config_of_file(in);
     const std::string text = in.attr_string("/", "config");
     const std::string v = in.attr_string("/", "version") + " " + in.attr_string("/", "git_sha");

@@ -1,5 +1,5 @@
 #pragma once
-// Merging the outputs of the shards of one run (issue 6).
+// Merging the outputs of the shards of one run.
 #include <string>
 #include <vector>
 

@@ -1,6 +1,7 @@
 #pragma once
 // Particle arrays in a checkpoint: one row (v_x, v_y, v_z, t) per particle, with the weight as a
 // fifth column for weighted particles.
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,8 @@ inline bool read_particles(const H5Reader& in, const std::string& path, Particle
   if (weights) weights->resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     const double* r = &rows[cols * i];
+    for (std::size_t k = 0; k < cols; ++k)
+      if (!std::isfinite(r[k])) return false;  // a restored state is finite everywhere
     p[i].v = {r[0], r[1], r[2]};
     p[i].t = r[3];
     if (weights) (*weights)[i] = r[4];

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -150,6 +151,22 @@ Record tv06_layout(const Config& config) {
   return r;
 }
 
+namespace {
+// A result that overflowed, named, instead of the exact sums' bare refusal of a non-finite number.
+void add_finite(Record& record, const std::string& name, double value, std::uint64_t e,
+                const char* model) {
+  if (!std::isfinite(value)) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", value);
+    throw std::runtime_error(std::string(model) + ": " + name + " = " + text +
+                             " in ensemble " + std::to_string(e) +
+                             ": the simulation overflowed; are the " + model +
+                             " section's masses, densities or lengths extreme?");
+  }
+  record.moments(name)[0].add(value);
+}
+}  // namespace
+
 void run_tv06(const Config& config, const DriverOptions& options, Record& record) {
   if (config.model == Model::kIntruder) {
     const IntruderConfig& c = config.intruder;
@@ -160,8 +177,8 @@ void run_tv06(const Config& config, const DriverOptions& options, Record& record
           return tv06::simulate_intruder(c, config.seed, e, &slot);
         },
         [&](const tv06::IntruderEnsemble& r, std::uint64_t e) {
-          record.moments("temperature_ratio")[0].add(r.temperature_ratio);
-          record.moments("mean_velocity")[0].add(r.mean_velocity);
+          add_finite(record, "temperature_ratio", r.temperature_ratio, e, "intruder");
+          add_finite(record, "mean_velocity", r.mean_velocity, e, "intruder");
           add_histogram(record, "histogram", r.histogram, r.samples);
           std::vector<double> row = {r.temperature_ratio, r.mean_velocity,
                                      static_cast<double>(r.collisions),
@@ -181,9 +198,9 @@ void run_tv06(const Config& config, const DriverOptions& options, Record& record
           return tv06::simulate_needle(c, config.seed, e, &slot);
         },
         [&](const tv06::NeedleEnsemble& r, std::uint64_t e) {
-          record.moments("translational_temperature_ratio")[0].add(r.translational_ratio);
-          record.moments("rotational_temperature_ratio")[0].add(r.rotational_ratio);
-          record.moments("R")[0].add(r.R);
+          add_finite(record, "translational_temperature_ratio", r.translational_ratio, e, "needle");
+          add_finite(record, "rotational_temperature_ratio", r.rotational_ratio, e, "needle");
+          add_finite(record, "R", r.R, e, "needle");
           add_histogram(record, "velocity_histogram", r.velocity_histogram, r.samples);
           add_histogram(record, "omega_histogram", r.omega_histogram, r.samples);
           record.add_ensemble(e, {r.translational_ratio, r.rotational_ratio, r.R,
