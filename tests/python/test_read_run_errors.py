@@ -99,7 +99,8 @@ def replace_dataset(f, name, data):
 def required_attributes(path):
     """(owner, key) of the attributes read_run requires in this file."""
     with h5py.File(path, "r") as f:
-        out = [("/", k) for k in ("config", "model", "seed", "ensembles", "version", "git_sha", "confidence_lambda_p")]
+        out = [("/", k) for k in ("config", "model", "seed", "ensembles", "version", "git_sha",
+                                  "confidence_lambda_p")]
         out.append(("provenance", "shard"))
         for owner, keys in (("steady", ("samples", "from")), ("steady/histogram", ("rows",)),
                             ("histogram", ("samples",)), ("velocity_histogram", ("samples",)),
@@ -188,7 +189,8 @@ def edit_cases(path, rng, count):
         return f"config {value!r:.30}", edit
 
     def events_out_of_order():
-        return "reorder /events/ensemble", lambda f: replace_dataset(f, "events/ensemble", f["events/ensemble"][()][::-1])
+        return "reorder /events/ensemble", lambda f: replace_dataset(f, "events/ensemble",
+                                                                     f["events/ensemble"][()][::-1])
 
     kinds = [delete_dataset, reshape_dataset, retype_dataset, non_finite, delete_attribute, alter_attribute,
              garbage_config, events_out_of_order]
@@ -291,7 +293,8 @@ def make_checkpoint(tmp_path):
 
 def test_a_checkpoint_is_named_as_one(tmp_path):
     checkpoint = make_checkpoint(tmp_path)
-    err = expect_error(checkpoint, "is a checkpoint of an unfinished run, not an output; resume the run with granboltz run")
+    err = expect_error(checkpoint,
+                       "is a checkpoint of an unfinished run, not an output; resume the run with granboltz run")
     assert err.name == "the file"
     with pytest.raises(RunReadError, match="is a checkpoint"):
         with open_run(checkpoint):
@@ -378,7 +381,8 @@ def test_malformed_datasets_and_attributes_are_named(outputs, tmp_path):
 
     expect_error(damaged("short", lambda f: replace_dataset(f, "temperature/mean", f["temperature/mean"][:-1])),
                  "dataset /temperature/mean: has shape (2,), not (3,)")
-    expect_error(damaged("f32", lambda f: replace_dataset(f, "events/u_max_final", f["events/u_max_final"][()].astype("f4"))),
+    expect_error(damaged("f32", lambda f: replace_dataset(f, "events/u_max_final",
+                                                          f["events/u_max_final"][()].astype("f4"))),
                  "dataset /events/u_max_final: has dtype float32, not float64")
     expect_error(damaged("nan", lambda f: replace_dataset(f, "crit/ci", np.full(3, np.nan))),
                  "dataset /crit/ci: has non-finite values")

@@ -195,7 +195,8 @@ def run_attrs(f, path=None):
         wall = prov.get("wall_seconds")
         version, sha = f.attrs.get("version", ""), f.attrs.get("git_sha", "")
         out = {"version": text(version), "git_sha": text(sha)}
-    out["wall_seconds"] = None if wall is None else _number(wall, float, path, "attribute wall_seconds of /provenance")
+    out["wall_seconds"] = (None if wall is None
+                           else _number(wall, float, path, "attribute wall_seconds of /provenance"))
     return out
 
 

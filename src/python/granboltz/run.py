@@ -22,13 +22,13 @@ shard must have all of it too, for its own ensembles.
 """
 
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import h5py
 import numpy as np
 
-from .io import (RunReadError, check_finite, open_run, provenance, read_attribute, read_config,
-                 read_dataset, reading, text)
+from .io import RunReadError, open_run, provenance, read_config, read_dataset, reading
+from .layout import F8, U8, Reader, Spec, check_provenance, config_section, dsmc_layout, shard_range, tv06_layout
 
 _HISTOGRAM_GROUPS = ("histogram", "velocity_histogram", "omega_histogram")
 _NOT_OBSERVABLES = {"events", "steady", "accumulators", "provenance", "exact"} | set(_HISTOGRAM_GROUPS)
@@ -63,7 +63,7 @@ class LazyHistograms(Mapping):
 
     def __init__(self, path, names, layouts=None):
         self._path, self._names, self._cache = str(path), tuple(names), {}
-        # {group: [_Spec]}: the datasets read_run found in each group, checked again when read
+        # {group: [Spec]}: the datasets read_run found in each group, checked again when read
         self._layouts = dict(layouts or {})
 
     def __getitem__(self, name):
@@ -71,7 +71,7 @@ class LazyHistograms(Mapping):
             raise KeyError(f"{self._path} has no histogram {name!r} (it has: {', '.join(self._names) or 'none'})")
         if name not in self._cache:
             with open_run(self._path) as f:
-                reader = _Reader(f, self._path, None)
+                reader = Reader(f, self._path, None)
                 with reading(self._path, f"group /{name}"):
                     group = f.get(name)
                     if not isinstance(group, h5py.Group):
@@ -138,166 +138,6 @@ class Run:
         return self.shard is None
 
 
-# ----------------------------------------------------------------------------- the layout
-# What the simulator writes, per model and config (io/output.cpp, io/record.cpp, dsmc/run.cpp,
-# tv06/run.cpp). Doubles are float64, counters uint64, the exact sums int64 digits.
-F8, U8, I8 = np.dtype("<f8"), np.dtype("<u8"), np.dtype("<i8")
-_SUMS = (2, 72)  # exact sums: fixed-point digits of the sum and of the sum of squares
-_DSMC_OBSERVABLES = (("density", ()), ("bulk_velocity", (3,)), ("temperature", ()), ("pressure_tensor", (3, 3)),
-                     ("heat_flux", (3,)), ("fourth_moment", ()), ("crit", ()), ("temperature_uncentred", ()))
-_DSMC_SCALARS = 20  # the scalars of one observation (dsmc/observables.hpp kNumScalars)
-_TV06_OBSERVABLES = {"intruder": ("temperature_ratio", "mean_velocity"),
-                     "needle": ("translational_temperature_ratio", "rotational_temperature_ratio", "R")}
-_TV06_HISTOGRAMS = {"intruder": ("histogram",), "needle": ("velocity_histogram", "omega_histogram")}
-
-
-@dataclass(frozen=True)
-class _Spec:
-    """A dataset every output of its kind has: dtype, shape (None: any), whether its values must
-    be finite, and why it is required (for the message when it is missing)."""
-
-    name: str
-    dtype: np.dtype
-    shape: tuple = None
-    finite: bool = True
-    why: str = ""
-
-
-class _Reader:
-    """Reads one open output, checking each dataset and attribute against its _Spec; every
-    failure is RunReadError naming the file and the object."""
-
-    def __init__(self, f, path, model):
-        self.f, self.path, self.model = f, path, model
-
-    def why(self, condition=""):
-        return f"every {self.model} output{' with ' + condition if condition else ''} has it"
-
-    def fail(self, name, problem):
-        raise RunReadError(self.path, name, problem)
-
-    def dataset(self, spec, read=True):
-        label = f"dataset /{spec.name}"
-        with reading(self.path, label):
-            obj = self.f.get(spec.name)
-            if obj is None:
-                self.fail(label, f"missing ({spec.why})" if spec.why else "missing")
-            if not isinstance(obj, h5py.Dataset):
-                self.fail(label, "is a group, not a dataset")
-            dtype = obj.dtype
-            if dtype.kind != spec.dtype.kind or dtype.itemsize != spec.dtype.itemsize:
-                self.fail(label, f"has dtype {dtype}, not {spec.dtype}")
-            if spec.shape is not None and obj.shape != tuple(spec.shape):
-                self.fail(label, f"has shape {obj.shape}, not {tuple(spec.shape)}")
-            if not read:
-                return None
-            data = obj[()]
-        if spec.finite:
-            check_finite(data, self.path, label)
-        return data
-
-    def group(self, name, why):
-        label = f"group /{name}"
-        with reading(self.path, label):
-            obj = self.f.get(name)
-            if obj is None:
-                self.fail(label, f"missing ({why})")
-            if not isinstance(obj, h5py.Group):
-                self.fail(label, "is a dataset, not a group")
-            return obj
-
-    def attribute(self, owner, key, why):
-        where = "" if owner == "/" else f"/{owner}"
-        with reading(self.path, f"attribute {key}" + (f" of {where}" if where else "")):
-            obj = self.f if owner == "/" else self.group(owner, why)
-            return read_attribute(obj, key, self.path, where, why)
-
-    def integer(self, owner, key, why, minimum=0):
-        value = self.attribute(owner, key, why)
-        name = f"attribute {key}" + ("" if owner == "/" else f" of /{owner}")
-        if not (isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_))):
-            self.fail(name, f"is not an integer ({value!r})")
-        if value < minimum:
-            self.fail(name, f"is {value}, less than {minimum}")
-        return int(value)
-
-    def number(self, owner, key, why):
-        value = self.attribute(owner, key, why)
-        name = f"attribute {key}" + ("" if owner == "/" else f" of /{owner}")
-        if not isinstance(value, (int, float, np.integer, np.floating)) or not np.isfinite(value):
-            self.fail(name, f"is not a finite number ({value!r})")
-        return float(value)
-
-    def text(self, owner, key, why):
-        value = self.attribute(owner, key, why)
-        name = f"attribute {key}" + ("" if owner == "/" else f" of /{owner}")
-        if not isinstance(value, (bytes, str)):
-            self.fail(name, f"is not text ({value!r})")
-        with reading(self.path, name):
-            return text(value)
-
-    def names(self, group):
-        """The member names of a group the layout has already checked."""
-        with reading(self.path, f"group /{group}"):
-            return list(self.f[group])
-
-    def is_dataset(self, name):
-        with reading(self.path, f"/{name}"):
-            return isinstance(self.f.get(name), h5py.Dataset)
-
-
-def _section(config, path, model):
-    section = config.get(model)
-    if not isinstance(section, dict):
-        raise RunReadError(path, "attribute config", f"has no mapping {model!r} (every {model} config has it)")
-    return section
-
-
-def _config_int(path, section, model, keys, default=0):
-    """An integer of the config, e.g. dsmc.histogram.shells, or default if it is absent."""
-    value = section
-    for key in keys:
-        value = value.get(key) if isinstance(value, dict) else None
-        if value is None:
-            return default
-    if isinstance(value, bool) or not isinstance(value, int) or value < 0:
-        raise RunReadError(path, "attribute config", f"{model}.{'.'.join(keys)} is not a non-negative integer ({value!r})")
-    return value
-
-
-def _shard(path, prov, ensembles):
-    """(first, last) ensemble of the file from provenance shard "i/count" (config.hpp
-    first_ensemble/last_ensemble); every output of `granboltz run` has it, a merged file has
-    merged_from instead and holds every ensemble."""
-    if "merged_from" in prov:
-        return 0, ensembles
-    name = "attribute shard of /provenance"
-    if "shard" not in prov:
-        raise RunReadError(path, name, "missing (every output of granboltz run has it; a merged file has merged_from)")
-    index, slash, count = str(prov["shard"]).partition("/")
-    if not (slash and index.isdigit() and count.isdigit() and int(index) < int(count)):
-        raise RunReadError(path, name, f"is not \"index/count\" with index < count ({prov['shard']!r})")
-    index, count = int(index), int(count)
-    return ensembles * index // count, ensembles * (index + 1) // count
-
-
-def _check_provenance(path, prov):
-    for key, kind in (("threads", int), ("wall_seconds", float)):
-        if key in prov:
-            value = prov[key]
-            if isinstance(value, bool) or not isinstance(value, (int, float)) or not np.isfinite(value) \
-                    or (kind is int and not isinstance(value, int)):
-                raise RunReadError(path, f"attribute {key} of /provenance", f"is not a number ({value!r})")
-
-
-def _observable_specs(name, trailing, rows, why, per_ensemble=None):
-    shape = tuple(rows) + tuple(trailing)
-    specs = [_Spec(f"{name}/{key}", F8, shape, True, why) for key in ("mean", "ci", "variance")]
-    if per_ensemble is not None:
-        specs.append(_Spec(f"{name}/per_ensemble", F8, (per_ensemble,), True, why))
-    return specs
-
-
 def _read_observable(reader, name, specs):
     values = {spec.name.rpartition("/")[2]: reader.dataset(spec) for spec in specs}
     return Observable(name=name, mean=values["mean"], ci=values["ci"],
@@ -313,113 +153,14 @@ def _read_other_observable(reader, name):
     return Observable(name=name, mean=read_dataset(f, f"{name}/mean", path),
                       ci=read_dataset(f, f"{name}/ci", path),
                       variance=read_dataset(f, f"{name}/variance", path) if "variance" in members else None,
-                      per_ensemble=read_dataset(f, f"{name}/per_ensemble", path) if "per_ensemble" in members else None)
+                      per_ensemble=(read_dataset(f, f"{name}/per_ensemble", path)
+                                    if "per_ensemble" in members else None))
 
 
 def _has_mean_and_ci(reader, name):
     with reading(reader.path, f"group /{name}"):
         obj = reader.f.get(name)
         return isinstance(obj, h5py.Group) and "mean" in obj and "ci" in obj
-
-
-def _dsmc_layout(reader, section, rows, n):
-    """Observables, events, steady, histogram and accumulators of a DSMC output (dsmc/run.cpp
-    present_dsmc, dsmc_layout): {"observables": {name: [_Spec]}, ...}."""
-    path, why = reader.path, reader.why
-    P = _config_int(path, section, "dsmc", ("moments",), 4)
-    K1 = _config_int(path, section, "dsmc", ("histogram", "shells")) + 1
-    shells = K1 > 1
-    steady = section.get("steady_from") is not None
-    swpm = section.get("weights") is not None
-    R = rows
-    moments = [(f"moment_{2 * p}", ()) for p in range(1, P + 1)]
-    m_why = why("dsmc.moments > 0")
-    out = {"observables": {name: _observable_specs(name, trail, (R,), why()) for name, trail in _DSMC_OBSERVABLES}}
-    out["observables"].update({name: _observable_specs(name, trail, (R,), m_why) for name, trail in moments})
-    events = [_Spec(f"events/{key}", U8, (n,), True, why()) for key in ("collisions", "fictitious", "kicks")]
-    events.append(_Spec("events/u_max_final", F8, (n,), True, why()))
-    if swpm:
-        events += [_Spec(f"events/{key}", U8, (n,), True, why("dsmc.weights")) for key in ("reductions", "particles_final")]
-    out["events"] = events
-    acc = [_Spec("accumulators/series", I8, (R * _DSMC_SCALARS,) + _SUMS, True, why())]
-    if P:
-        acc.append(_Spec("accumulators/moment_series", I8, (R * P,) + _SUMS, True, m_why))
-    out["steady"] = {}
-    if steady:
-        s_why = why("dsmc.steady_from")
-        out["steady"] = {f"steady/{name}": _observable_specs(f"steady/{name}", trail, (), s_why)
-                         for name, trail in _DSMC_OBSERVABLES}
-        out["steady"].update({f"steady/{name}": _observable_specs(f"steady/{name}", trail, (), why("dsmc.steady_from and dsmc.moments > 0"))
-                              for name, trail in moments})
-        acc.append(_Spec("accumulators/steady", I8, (_DSMC_SCALARS,) + _SUMS, True, s_why))
-        if P:
-            acc.append(_Spec("accumulators/moment_steady", I8, (P,) + _SUMS, True, s_why))
-    out["histograms"] = {}
-    if shells:
-        h_why = why("dsmc.histogram")
-        out["histograms"]["histogram"] = [_Spec("histogram/edges", F8, (K1,), True, h_why),
-                                          _Spec("histogram/mean", F8, (R, K1), True, h_why),
-                                          _Spec("histogram/ci", F8, (R, K1), True, h_why),
-                                          _Spec("histogram/counts", U8, (R, K1), True, h_why)]
-        acc += [_Spec("accumulators/histogram", U8, (R * K1,), True, h_why),
-                _Spec("accumulators/histogram_sq", U8, (R * K1, 2), True, h_why)]
-        if steady:
-            sh_why = why("dsmc.histogram and dsmc.steady_from")
-            out["steady"]["steady/histogram"] = [_Spec("steady/histogram/mean", F8, (K1,), True, sh_why),
-                                                 _Spec("steady/histogram/ci", F8, (K1,), True, sh_why)]
-            acc.append(_Spec("accumulators/histogram_steady", I8, (K1,) + _SUMS, True, sh_why))
-        if swpm:
-            acc.append(_Spec("accumulators/histogram_weight", I8, (R * K1,) + _SUMS, True, why("dsmc.histogram and dsmc.weights")))
-    out["accumulators"] = acc
-    out["scalars"], out["exact"] = [], []
-    return out
-
-
-def _tv06_layout(reader, model, section, n):
-    """Observables, events, exact values, histograms and accumulators of an intruder or needle
-    output (tv06/run.cpp tv06_layout, present_tv06)."""
-    path, why = reader.path, reader.why
-    out = {"observables": {name: _observable_specs(name, (), (), why(), per_ensemble=n)
-                           for name in _TV06_OBSERVABLES[model]}}
-    events = [_Spec(f"events/{key}", U8, (n,), True, why()) for key in ("collisions", "samples")]
-    events.append(_Spec("events/time", F8, (n,), True, why()))
-    dsmc_method = model == "intruder" and section.get("method") == "dsmc"
-    if model == "needle":
-        events.append(_Spec("events/fictitious", U8, (n,), True, why()))
-    if dsmc_method:
-        m_why = why("intruder.method: dsmc")
-        events += [_Spec("events/fictitious", U8, (n,), True, m_why), _Spec("events/majorant_exceeded", U8, (n,), True, m_why),
-                   _Spec("events/omega_max_final", F8, (n,), True, m_why)]
-    out["events"] = events
-    out["scalars"] = [_Spec(name, F8, (), True, why()) for name in ("bath_temperature", "sample_interval")]
-    exact = []
-    if model == "intruder":
-        bath = section.get("bath")
-        gaussian = isinstance(bath, dict) and bath.get("kind") == "gaussian"
-        if gaussian or ("mass" in section and section.get("mass") == section.get("alpha")):
-            exact.append(_Spec("exact/temperature_ratio", F8, (), True, why("a Gaussian bath or mass = alpha")))
-    elif section.get("alpha") == 1:
-        exact += [_Spec(f"exact/{name}", F8, (), True, why("alpha = 1")) for name in _TV06_OBSERVABLES[model]]
-    out["exact"] = exact
-    acc = [_Spec(f"accumulators/{name}", I8, (1,) + _SUMS, True, why()) for name in _TV06_OBSERVABLES[model]]
-    out["histograms"], out["totals"] = {}, []
-    for name in _TV06_HISTOGRAMS[model]:
-        bins = _config_int(path, section, model, (name, "bins"))
-        if not bins:
-            continue
-        h_why = why(f"{model}.{name}")
-        # density and ci are 0/0 when no sample was taken: they may be NaN
-        out["histograms"][name] = [_Spec(f"{name}/edges", F8, (bins + 1,), True, h_why),
-                                   _Spec(f"{name}/counts", U8, (bins,), True, h_why),
-                                   _Spec(f"{name}/overflow", U8, (2,), True, h_why),
-                                   _Spec(f"{name}/density", F8, (bins,), False, h_why),
-                                   _Spec(f"{name}/ci", F8, (bins,), False, h_why)]
-        acc += [_Spec(f"accumulators/{name}", U8, (bins,), True, h_why),
-                _Spec(f"accumulators/{name}_sq", U8, (bins, 2), True, h_why)]
-        out["totals"] += [(f"{name}_{key}", h_why) for key in ("below", "above", "samples")]
-    out["accumulators"] = acc
-    out["steady"] = {}
-    return out
 
 
 def read_run(path):
@@ -437,37 +178,38 @@ def read_run(path):
     with open_run(path) as f:
         config = read_config(f, path)
         model = config["model"]
-        reader = _Reader(f, path, model)
+        reader = Reader(f, path, model)
         with reading(path, "the file"):
             return _read(reader, config, model)
 
 
 def _read(reader, config, model):
+    # The ensembles and the time grid come first: the layout's shapes depend on them.
     f, path, why = reader.f, reader.path, reader.why
-    section = _section(config, path, model)
+    section = config_section(config, path, model)
     ensembles = reader.integer("/", "ensembles", why(), minimum=1)
     if config.get("ensembles") != ensembles:
         reader.fail("attribute ensembles", f"is {ensembles}, but the config says {config.get('ensembles')!r}")
     time = None
     if model == "dsmc":
-        time = reader.dataset(_Spec("time", F8, None, True, why()))
+        time = reader.dataset(Spec("time", F8, None, True, why()))
         if time.ndim != 1 or time.size == 0:
             reader.fail("dataset /time", f"has shape {time.shape}, not [M+1]")
         if np.any(np.diff(time) <= 0):
             reader.fail("dataset /time", "is not increasing")
     reader.group("provenance", why())
     prov = provenance(f, path)
-    _check_provenance(path, prov)
-    first, last = _shard(path, prov, ensembles)
+    check_provenance(path, prov)
+    first, last = shard_range(path, prov, ensembles)
     n = last - first
     reader.group("events", why())
-    index = reader.dataset(_Spec("events/ensemble", U8, (n,), True, why()))
+    index = reader.dataset(Spec("events/ensemble", U8, (n,), True, why()))
     if not np.array_equal(index, np.arange(first, last)):
         reader.fail("dataset /events/ensemble", f"is not the ensembles {first}..{last - 1} of this file")
     if model == "dsmc":
-        layout = _dsmc_layout(reader, section, time.size, n)
+        layout = dsmc_layout(reader, section, time.size, n)
     else:
-        layout = _tv06_layout(reader, model, section, n)
+        layout = tv06_layout(reader, model, section, n)
 
     observables = {name: _read_observable(reader, name, specs) for name, specs in layout["observables"].items()}
     for name in reader.names("/"):
@@ -487,7 +229,8 @@ def _read(reader, config, model):
         reader.number("steady", "from", why("dsmc.steady_from"))
         if "steady/histogram" in layout["steady"]:
             reader.integer("steady/histogram", "rows", why("dsmc.histogram and dsmc.steady_from"), minimum=1)
-        steady = {name.rpartition("/")[2]: _read_observable(reader, name, specs) for name, specs in layout["steady"].items()}
+        steady = {name.rpartition("/")[2]: _read_observable(reader, name, specs)
+                  for name, specs in layout["steady"].items()}
     if "steady" in reader.names("/"):
         for name in reader.names("steady"):
             if name not in steady and _has_mean_and_ci(reader, f"steady/{name}"):
@@ -503,10 +246,10 @@ def _read(reader, config, model):
 
     for name, specs in layout["histograms"].items():
         reader.group(name, specs[0].why)
+        if model != "dsmc" and reader.integer(name, "samples", specs[0].why) > 0:
+            specs = layout["histograms"][name] = [replace(spec, finite=True) for spec in specs]
         for spec in specs:
             reader.dataset(spec, read=False)  # shapes and dtypes now, the data when asked for
-        if model != "dsmc":
-            reader.integer(name, "samples", specs[0].why)
 
     reader.group("accumulators", why())
     for spec in layout["accumulators"]:
