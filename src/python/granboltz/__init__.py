@@ -7,6 +7,7 @@
 Modules, one concern each (import the one you need; nothing heavy is imported here):
     run          read_run: any output file as one object (observables with ci, lazy histograms)
     io           low-level HDF5 reading; RunReadError names the file and the dataset
+    layout       the datasets and attributes every output of a model has, as read_run checks them
     dsmc         the DSMC runs of the GRW05/RW05 tables (temperature series, histogram, steady)
     theory       temperature laws, scheme values, the estimator's bias, TV06 §3.1 formulas
     tables       GRW05 Tables 1-2, RW05 Tables 1-2

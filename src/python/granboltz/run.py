@@ -10,16 +10,25 @@
 
 A merged file (`granboltz merge`) is identical to the unsharded run and reads the same; a single
 shard is read too, but its means cover only its ensembles: run.shard gives (index, count) and
-run.complete is False for it. Every dataset read goes through granboltz.io.read_dataset, so a
-corrupted dataset raises granboltz.io.RunReadError naming the file and the dataset.
+run.complete is False for it.
+
+read_run raises granboltz.io.RunReadError, naming the file and the dataset or attribute, for
+anything that is not a complete output it can read: a file HDF5 cannot open or read (not HDF5,
+truncated, a checksum failure), a checkpoint, an HDF5 file of another program, and a dataset or
+attribute that every output of the file's model (and config) has but this file lacks, or has with
+the wrong shape, dtype or non-finite values. The layout checked is what the simulator writes
+(src/granboltz/io/output.cpp, dsmc/run.cpp, tv06/run.cpp; docs/output.md, docs/tv06.md). A
+shard must have all of it too, for its own ensembles.
 """
 
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
+import h5py
 import numpy as np
 
-from .io import open_run, provenance, read_config, read_dataset
+from .io import RunReadError, open_run, provenance, read_config, read_dataset, reading
+from .layout import F8, U8, Reader, Spec, check_provenance, config_section, dsmc_layout, shard_range, tv06_layout
 
 _HISTOGRAM_GROUPS = ("histogram", "velocity_histogram", "omega_histogram")
 _NOT_OBSERVABLES = {"events", "steady", "accumulators", "provenance", "exact"} | set(_HISTOGRAM_GROUPS)
@@ -52,17 +61,29 @@ class LazyHistograms(Mapping):
     """The histograms of a run file by group name ({dataset name: array} each), read from the
     file on first access and then kept: large histograms cost nothing until they are used."""
 
-    def __init__(self, path, names):
+    def __init__(self, path, names, layouts=None):
         self._path, self._names, self._cache = str(path), tuple(names), {}
+        # {group: [Spec]}: the datasets read_run found in each group, checked again when read
+        self._layouts = dict(layouts or {})
 
     def __getitem__(self, name):
         if name not in self._names:
             raise KeyError(f"{self._path} has no histogram {name!r} (it has: {', '.join(self._names) or 'none'})")
         if name not in self._cache:
             with open_run(self._path) as f:
-                group = f[name]
-                self._cache[name] = {key: read_dataset(f, f"{name}/{key}", self._path)
-                                     for key in group if not hasattr(group[key], "keys")}
+                reader = Reader(f, self._path, None)
+                with reading(self._path, f"group /{name}"):
+                    group = f.get(name)
+                    if not isinstance(group, h5py.Group):
+                        raise RunReadError(self._path, f"group /{name}", "missing (read_run found it)")
+                    keys = [key for key in group if isinstance(group.get(key), h5py.Dataset)]
+                out = {}
+                for spec in self._layouts.get(name, ()):
+                    out[spec.name.rpartition("/")[2]] = reader.dataset(spec)
+                for key in keys:
+                    if key not in out:
+                        out[key] = read_dataset(f, f"{name}/{key}", self._path)
+                self._cache[name] = out
         return self._cache[name]
 
     def __iter__(self):
@@ -117,35 +138,140 @@ class Run:
         return self.shard is None
 
 
-def _observable(f, name, path):
-    group = f[name]
-    return Observable(name=name, mean=read_dataset(f, f"{name}/mean", path), ci=read_dataset(f, f"{name}/ci", path),
-                      variance=read_dataset(f, f"{name}/variance", path) if "variance" in group else None,
-                      per_ensemble=read_dataset(f, f"{name}/per_ensemble", path) if "per_ensemble" in group else None)
+def _read_observable(reader, name, specs):
+    values = {spec.name.rpartition("/")[2]: reader.dataset(spec) for spec in specs}
+    return Observable(name=name, mean=values["mean"], ci=values["ci"],
+                      variance=values.get("variance"), per_ensemble=values.get("per_ensemble"))
 
 
-def _is_observable(f, name):
-    return name not in _NOT_OBSERVABLES and hasattr(f[name], "keys") and "mean" in f[name] and "ci" in f[name]
+def _read_other_observable(reader, name):
+    """An observable group the layout does not name (a newer simulator's): read as it is."""
+    f, path = reader.f, reader.path
+    with reading(path, f"group /{name}"):
+        group = f[name]
+        members = set(group)
+    return Observable(name=name, mean=read_dataset(f, f"{name}/mean", path),
+                      ci=read_dataset(f, f"{name}/ci", path),
+                      variance=read_dataset(f, f"{name}/variance", path) if "variance" in members else None,
+                      per_ensemble=(read_dataset(f, f"{name}/per_ensemble", path)
+                                    if "per_ensemble" in members else None))
+
+
+def _has_mean_and_ci(reader, name):
+    with reading(reader.path, f"group /{name}"):
+        obj = reader.f.get(name)
+        return isinstance(obj, h5py.Group) and "mean" in obj and "ci" in obj
 
 
 def read_run(path):
     """Read a granboltz HDF5 output (any model) into a Run: config, time, every observable with
     its ci, the events, the steady-state averages (DSMC with steady_from), exact values (TV06),
-    provenance, and the histograms lazily. RunReadError names the file and the dataset when
-    HDF5 cannot read one."""
+    provenance, and the histograms lazily.
+
+    Raises RunReadError, naming the file and the dataset or attribute, for anything that is not
+    an output it can read: a missing path or a directory, a file HDF5 cannot open or read (not
+    HDF5, truncated, a checksum failure), a checkpoint, an HDF5 file of another program (no
+    config attribute), a config that is not YAML or has no model, and a dataset or attribute
+    that every output of the model has but is missing, of the wrong shape or dtype, or not
+    finite. A shard reads (run.complete is False) and must have every dataset too."""
     path = str(path)
     with open_run(path) as f:
         config = read_config(f, path)
-        observables = {name: _observable(f, name, path) for name in f if _is_observable(f, name)}
-        steady = {}
-        if "steady" in f:
-            steady = {name: _observable(f, f"steady/{name}", path) for name in f["steady"]
-                      if "mean" in f["steady"][name]}
-        exact = {name: read_dataset(f, f"exact/{name}", path) for name in f["exact"]} if "exact" in f else {}
-        events = {name: read_dataset(f, f"events/{name}", path) for name in f["events"]} if "events" in f else {}
-        return Run(path=path, model=str(config.get("model", f.attrs.get("model", ""))), config=config,
-                   ensembles=int(f.attrs["ensembles"]),
-                   time=read_dataset(f, "time", path) if "time" in f else None,
-                   observables=observables,
-                   histograms=LazyHistograms(path, [g for g in _HISTOGRAM_GROUPS if g in f]),
-                   events=events, steady=steady, exact=exact, provenance=provenance(f))
+        model = config["model"]
+        reader = Reader(f, path, model)
+        with reading(path, "the file"):
+            return _read(reader, config, model)
+
+
+def _read(reader, config, model):
+    # The ensembles and the time grid come first: the layout's shapes depend on them.
+    f, path, why = reader.f, reader.path, reader.why
+    section = config_section(config, path, model)
+    ensembles = reader.integer("/", "ensembles", why(), minimum=1)
+    if config.get("ensembles") != ensembles:
+        reader.fail("attribute ensembles", f"is {ensembles}, but the config says {config.get('ensembles')!r}")
+    time = None
+    if model == "dsmc":
+        time = reader.dataset(Spec("time", F8, None, True, why()))
+        if time.ndim != 1 or time.size == 0:
+            reader.fail("dataset /time", f"has shape {time.shape}, not [M+1]")
+        if np.any(np.diff(time) <= 0):
+            reader.fail("dataset /time", "is not increasing")
+    reader.group("provenance", why())
+    prov = provenance(f, path)
+    check_provenance(path, prov)
+    first, last = shard_range(path, prov, ensembles)
+    n = last - first
+    reader.group("events", why())
+    index = reader.dataset(Spec("events/ensemble", U8, (n,), True, why()))
+    if not np.array_equal(index, np.arange(first, last)):
+        reader.fail("dataset /events/ensemble", f"is not the ensembles {first}..{last - 1} of this file")
+    if model == "dsmc":
+        layout = dsmc_layout(reader, section, time.size, n)
+    else:
+        layout = tv06_layout(reader, model, section, n)
+
+    observables = {name: _read_observable(reader, name, specs) for name, specs in layout["observables"].items()}
+    for name in reader.names("/"):
+        if name not in observables and name not in _NOT_OBSERVABLES and _has_mean_and_ci(reader, name):
+            observables[name] = _read_other_observable(reader, name)
+
+    events = {"ensemble": index}
+    events.update({spec.name.rpartition("/")[2]: reader.dataset(spec) for spec in layout["events"]})
+    for name in reader.names("events"):
+        if name not in events:
+            events[name] = read_dataset(f, f"events/{name}", path)
+
+    steady = {}
+    if layout["steady"]:
+        reader.group("steady", why("dsmc.steady_from"))
+        reader.integer("steady", "samples", why("dsmc.steady_from"), minimum=1)
+        reader.number("steady", "from", why("dsmc.steady_from"))
+        if "steady/histogram" in layout["steady"]:
+            reader.integer("steady/histogram", "rows", why("dsmc.histogram and dsmc.steady_from"), minimum=1)
+        steady = {name.rpartition("/")[2]: _read_observable(reader, name, specs)
+                  for name, specs in layout["steady"].items()}
+    if "steady" in reader.names("/"):
+        for name in reader.names("steady"):
+            if name not in steady and _has_mean_and_ci(reader, f"steady/{name}"):
+                steady[name] = _read_other_observable(reader, f"steady/{name}")
+
+    for spec in layout["scalars"]:
+        reader.dataset(spec)
+    exact = {spec.name.rpartition("/")[2]: reader.dataset(spec) for spec in layout["exact"]}
+    if "exact" in reader.names("/"):
+        for name in reader.names("exact"):
+            if name not in exact:
+                exact[name] = read_dataset(f, f"exact/{name}", path)
+
+    for name, specs in layout["histograms"].items():
+        reader.group(name, specs[0].why)
+        if model != "dsmc" and reader.integer(name, "samples", specs[0].why) > 0:
+            specs = layout["histograms"][name] = [replace(spec, finite=True) for spec in specs]
+        for spec in specs:
+            reader.dataset(spec, read=False)  # shapes and dtypes now, the data when asked for
+
+    reader.group("accumulators", why())
+    for spec in layout["accumulators"]:
+        reader.dataset(spec, read=False)  # for merging; read_run does not use their values
+    for key, reason in layout.get("totals", ()):
+        reader.integer("accumulators", key, reason)
+    if layout["steady"]:
+        reader.integer("accumulators", "steady_samples", why("dsmc.steady_from"))
+
+    stored_model = reader.text("/", "model", why())
+    if stored_model != model:
+        reader.fail("attribute model", f"is {stored_model!r}, but the config says {model!r}")
+    for key in ("version", "git_sha"):
+        reader.text("/", key, why())
+    seed = reader.integer("/", "seed", why())
+    if config.get("seed") != seed:
+        reader.fail("attribute seed", f"is {seed}, but the config says {config.get('seed')!r}")
+    lambda_p = reader.number("/", "confidence_lambda_p", why())
+    if lambda_p <= 0:
+        reader.fail("attribute confidence_lambda_p", f"is {lambda_p}, not positive")
+
+    histograms = [g for g in _HISTOGRAM_GROUPS if g in layout["histograms"] or g in reader.names("/")]
+    return Run(path=path, model=model, config=config, ensembles=ensembles, time=time, observables=observables,
+               histograms=LazyHistograms(path, histograms, layout["histograms"]),
+               events=events, steady=steady, exact=exact, provenance=prov)

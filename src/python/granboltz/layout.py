@@ -1,0 +1,279 @@
+"""The layout of granboltz outputs that granboltz.run.read_run checks: per model and config, the
+datasets every output has with their dtypes and shapes, and the readers that check a dataset or
+an attribute against it and raise RunReadError naming the file and the object.
+
+What the simulator writes: src/granboltz/io/output.cpp (root and provenance attributes),
+io/record.cpp (accumulators, events), dsmc/run.cpp (present_dsmc, dsmc_layout), tv06/run.cpp
+(present_tv06, tv06_layout); docs/output.md and docs/tv06.md describe it.
+"""
+
+from dataclasses import dataclass
+
+import h5py
+import numpy as np
+
+from .io import RunReadError, check_finite, read_attribute, reading, text
+
+# Doubles are float64, counters uint64, the exact sums int64 digits.
+F8, U8, I8 = np.dtype("<f8"), np.dtype("<u8"), np.dtype("<i8")
+_SUMS = (2, 72)  # exact sums: fixed-point digits of the sum and of the sum of squares
+_DSMC_OBSERVABLES = (("density", ()), ("bulk_velocity", (3,)), ("temperature", ()), ("pressure_tensor", (3, 3)),
+                     ("heat_flux", (3,)), ("fourth_moment", ()), ("crit", ()), ("temperature_uncentred", ()))
+_DSMC_SCALARS = 20  # the scalars of one observation (dsmc/observables.hpp kNumScalars)
+_TV06_OBSERVABLES = {"intruder": ("temperature_ratio", "mean_velocity"),
+                     "needle": ("translational_temperature_ratio", "rotational_temperature_ratio", "R")}
+_TV06_HISTOGRAMS = {"intruder": ("histogram",), "needle": ("velocity_histogram", "omega_histogram")}
+
+
+@dataclass(frozen=True)
+class Spec:
+    """A dataset every output of its kind has: dtype, shape (None: any), whether its values must
+    be finite, and why it is required (for the message when it is missing)."""
+
+    name: str
+    dtype: np.dtype
+    shape: tuple = None
+    finite: bool = True
+    why: str = ""
+
+
+class Reader:
+    """Reads one open output, checking each dataset and attribute against its Spec; every
+    failure is RunReadError naming the file and the object."""
+
+    def __init__(self, f, path, model):
+        self.f, self.path, self.model = f, path, model
+
+    def why(self, condition=""):
+        return f"every {self.model} output{' with ' + condition if condition else ''} has it"
+
+    def fail(self, name, problem):
+        raise RunReadError(self.path, name, problem)
+
+    def dataset(self, spec, read=True):
+        label = f"dataset /{spec.name}"
+        with reading(self.path, label):
+            obj = self.f.get(spec.name)
+            if obj is None:
+                self.fail(label, f"missing ({spec.why})" if spec.why else "missing")
+            if not isinstance(obj, h5py.Dataset):
+                self.fail(label, "is a group, not a dataset")
+            dtype = obj.dtype
+            if dtype.kind != spec.dtype.kind or dtype.itemsize != spec.dtype.itemsize:
+                self.fail(label, f"has dtype {dtype}, not {spec.dtype}")
+            if spec.shape is not None and obj.shape != tuple(spec.shape):
+                self.fail(label, f"has shape {obj.shape}, not {tuple(spec.shape)}")
+            if not read:
+                return None
+            data = obj[()]
+        if spec.finite:
+            check_finite(data, self.path, label)
+        return data
+
+    def group(self, name, why):
+        label = f"group /{name}"
+        with reading(self.path, label):
+            obj = self.f.get(name)
+            if obj is None:
+                self.fail(label, f"missing ({why})")
+            if not isinstance(obj, h5py.Group):
+                self.fail(label, "is a dataset, not a group")
+            return obj
+
+    def attribute(self, owner, key, why):
+        where = "" if owner == "/" else f"/{owner}"
+        with reading(self.path, f"attribute {key}" + (f" of {where}" if where else "")):
+            obj = self.f if owner == "/" else self.group(owner, why)
+            return read_attribute(obj, key, self.path, where, why)
+
+    def integer(self, owner, key, why, minimum=0):
+        value = self.attribute(owner, key, why)
+        name = f"attribute {key}" + ("" if owner == "/" else f" of /{owner}")
+        if not (isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_))):
+            self.fail(name, f"is not an integer ({value!r})")
+        if value < minimum:
+            self.fail(name, f"is {value}, less than {minimum}")
+        return int(value)
+
+    def number(self, owner, key, why):
+        value = self.attribute(owner, key, why)
+        name = f"attribute {key}" + ("" if owner == "/" else f" of /{owner}")
+        if not isinstance(value, (int, float, np.integer, np.floating)) or not np.isfinite(value):
+            self.fail(name, f"is not a finite number ({value!r})")
+        return float(value)
+
+    def text(self, owner, key, why):
+        value = self.attribute(owner, key, why)
+        name = f"attribute {key}" + ("" if owner == "/" else f" of /{owner}")
+        if not isinstance(value, (bytes, str)):
+            self.fail(name, f"is not text ({value!r})")
+        with reading(self.path, name):
+            return text(value)
+
+    def names(self, group):
+        """The member names of a group the layout has already checked ("/": the root's)."""
+        with reading(self.path, "the root group" if group == "/" else f"group /{group}"):
+            return list(self.f[group])
+
+
+def config_section(config, path, model):
+    """The model's mapping of the config (config["dsmc"], ...); RunReadError if it has none."""
+    section = config.get(model)
+    if not isinstance(section, dict):
+        raise RunReadError(path, "attribute config", f"has no mapping {model!r} (every {model} config has it)")
+    return section
+
+
+def config_int(path, section, model, keys, default=0):
+    """An integer of the config, e.g. dsmc.histogram.shells, or default if it is absent."""
+    value = section
+    for key in keys:
+        value = value.get(key) if isinstance(value, dict) else None
+        if value is None:
+            return default
+    if isinstance(value, bool) or not isinstance(value, int) or value < 0:
+        raise RunReadError(path, "attribute config",
+                           f"{model}.{'.'.join(keys)} is not a non-negative integer ({value!r})")
+    return value
+
+
+def shard_range(path, prov, ensembles):
+    """(first, last) ensemble of the file from provenance shard "i/count" (config.hpp
+    first_ensemble/last_ensemble); every output of `granboltz run` has it, a merged file has
+    merged_from instead and holds every ensemble."""
+    if "merged_from" in prov:
+        return 0, ensembles
+    name = "attribute shard of /provenance"
+    if "shard" not in prov:
+        raise RunReadError(path, name,
+                           "missing (every output of granboltz run has it; a merged file has merged_from)")
+    index, slash, count = str(prov["shard"]).partition("/")
+    if not (slash and index.isdigit() and count.isdigit() and int(index) < int(count)):
+        raise RunReadError(path, name, f"is not \"index/count\" with index < count ({prov['shard']!r})")
+    index, count = int(index), int(count)
+    return ensembles * index // count, ensembles * (index + 1) // count
+
+
+def check_provenance(path, prov):
+    """RunReadError unless /provenance's threads and wall_seconds, where present, are numbers."""
+    for key, kind in (("threads", int), ("wall_seconds", float)):
+        if key in prov:
+            value = prov[key]
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not np.isfinite(value) \
+                    or (kind is int and not isinstance(value, int)):
+                raise RunReadError(path, f"attribute {key} of /provenance", f"is not a number ({value!r})")
+
+
+def observable_specs(name, trailing, rows, why, per_ensemble=None):
+    """The Specs of one observable group: mean, ci, variance of shape rows + trailing, and
+    per_ensemble [N] for TV06."""
+    shape = tuple(rows) + tuple(trailing)
+    specs = [Spec(f"{name}/{key}", F8, shape, True, why) for key in ("mean", "ci", "variance")]
+    if per_ensemble is not None:
+        specs.append(Spec(f"{name}/per_ensemble", F8, (per_ensemble,), True, why))
+    return specs
+
+
+
+def dsmc_layout(reader, section, rows, n):
+    """Observables, events, steady, histogram and accumulators of a DSMC output (dsmc/run.cpp
+    present_dsmc, dsmc_layout): {"observables": {name: [Spec]}, ...}."""
+    path, why = reader.path, reader.why
+    P = config_int(path, section, "dsmc", ("moments",), 4)
+    K1 = config_int(path, section, "dsmc", ("histogram", "shells")) + 1
+    shells = K1 > 1
+    steady = section.get("steady_from") is not None
+    swpm = section.get("weights") is not None
+    R = rows
+    moments = [(f"moment_{2 * p}", ()) for p in range(1, P + 1)]
+    m_why = why("dsmc.moments > 0")
+    out = {"observables": {name: observable_specs(name, trail, (R,), why()) for name, trail in _DSMC_OBSERVABLES}}
+    out["observables"].update({name: observable_specs(name, trail, (R,), m_why) for name, trail in moments})
+    events = [Spec(f"events/{key}", U8, (n,), True, why()) for key in ("collisions", "fictitious", "kicks")]
+    events.append(Spec("events/u_max_final", F8, (n,), True, why()))
+    if swpm:
+        events += [Spec(f"events/{key}", U8, (n,), True, why("dsmc.weights"))
+                   for key in ("reductions", "particles_final")]
+    out["events"] = events
+    acc = [Spec("accumulators/series", I8, (R * _DSMC_SCALARS,) + _SUMS, True, why())]
+    if P:
+        acc.append(Spec("accumulators/moment_series", I8, (R * P,) + _SUMS, True, m_why))
+    out["steady"] = {}
+    if steady:
+        s_why = why("dsmc.steady_from")
+        out["steady"] = {f"steady/{name}": observable_specs(f"steady/{name}", trail, (), s_why)
+                         for name, trail in _DSMC_OBSERVABLES}
+        sm_why = why("dsmc.steady_from and dsmc.moments > 0")
+        out["steady"].update({f"steady/{name}": observable_specs(f"steady/{name}", trail, (), sm_why)
+                              for name, trail in moments})
+        acc.append(Spec("accumulators/steady", I8, (_DSMC_SCALARS,) + _SUMS, True, s_why))
+        if P:
+            acc.append(Spec("accumulators/moment_steady", I8, (P,) + _SUMS, True, s_why))
+    out["histograms"] = {}
+    if shells:
+        h_why = why("dsmc.histogram")
+        out["histograms"]["histogram"] = [Spec("histogram/edges", F8, (K1,), True, h_why),
+                                          Spec("histogram/mean", F8, (R, K1), True, h_why),
+                                          Spec("histogram/ci", F8, (R, K1), True, h_why),
+                                          Spec("histogram/counts", U8, (R, K1), True, h_why)]
+        acc += [Spec("accumulators/histogram", U8, (R * K1,), True, h_why),
+                Spec("accumulators/histogram_sq", U8, (R * K1, 2), True, h_why)]
+        if steady:
+            sh_why = why("dsmc.histogram and dsmc.steady_from")
+            out["steady"]["steady/histogram"] = [Spec("steady/histogram/mean", F8, (K1,), True, sh_why),
+                                                 Spec("steady/histogram/ci", F8, (K1,), True, sh_why)]
+            acc.append(Spec("accumulators/histogram_steady", I8, (K1,) + _SUMS, True, sh_why))
+        if swpm:
+            acc.append(Spec("accumulators/histogram_weight", I8, (R * K1,) + _SUMS, True,
+                            why("dsmc.histogram and dsmc.weights")))
+    out["accumulators"] = acc
+    out["scalars"], out["exact"] = [], []
+    return out
+
+
+def tv06_layout(reader, model, section, n):
+    """Observables, events, exact values, histograms and accumulators of an intruder or needle
+    output (tv06/run.cpp tv06_layout, present_tv06)."""
+    path, why = reader.path, reader.why
+    out = {"observables": {name: observable_specs(name, (), (), why(), per_ensemble=n)
+                           for name in _TV06_OBSERVABLES[model]}}
+    events = [Spec(f"events/{key}", U8, (n,), True, why()) for key in ("collisions", "samples")]
+    events.append(Spec("events/time", F8, (n,), True, why()))
+    dsmc_method = model == "intruder" and section.get("method") == "dsmc"
+    if model == "needle":
+        events.append(Spec("events/fictitious", U8, (n,), True, why()))
+    if dsmc_method:
+        m_why = why("intruder.method: dsmc")
+        events += [Spec("events/fictitious", U8, (n,), True, m_why),
+                   Spec("events/majorant_exceeded", U8, (n,), True, m_why),
+                   Spec("events/omega_max_final", F8, (n,), True, m_why)]
+    out["events"] = events
+    out["scalars"] = [Spec(name, F8, (), True, why()) for name in ("bath_temperature", "sample_interval")]
+    exact = []
+    if model == "intruder":
+        bath = section.get("bath")
+        gaussian = isinstance(bath, dict) and bath.get("kind") == "gaussian"
+        if gaussian or ("mass" in section and section.get("mass") == section.get("alpha")):
+            exact.append(Spec("exact/temperature_ratio", F8, (), True, why("a Gaussian bath or mass = alpha")))
+    elif section.get("alpha") == 1:
+        exact += [Spec(f"exact/{name}", F8, (), True, why("alpha = 1")) for name in _TV06_OBSERVABLES[model]]
+    out["exact"] = exact
+    acc = [Spec(f"accumulators/{name}", I8, (1,) + _SUMS, True, why()) for name in _TV06_OBSERVABLES[model]]
+    out["histograms"], out["totals"] = {}, []
+    for name in _TV06_HISTOGRAMS[model]:
+        bins = config_int(path, section, model, (name, "bins"))
+        if not bins:
+            continue
+        h_why = why(f"{model}.{name}")
+        # density and ci are 0/0 when no sample was taken: NaN allowed then only (read_run)
+        out["histograms"][name] = [Spec(f"{name}/edges", F8, (bins + 1,), True, h_why),
+                                   Spec(f"{name}/counts", U8, (bins,), True, h_why),
+                                   Spec(f"{name}/overflow", U8, (2,), True, h_why),
+                                   Spec(f"{name}/density", F8, (bins,), False, h_why),
+                                   Spec(f"{name}/ci", F8, (bins,), False, h_why)]
+        acc += [Spec(f"accumulators/{name}", U8, (bins,), True, h_why),
+                Spec(f"accumulators/{name}_sq", U8, (bins, 2), True, h_why)]
+        out["totals"] += [(f"{name}_{key}", h_why) for key in ("below", "above", "samples")]
+    out["accumulators"] = acc
+    out["steady"] = {}
+    return out
