@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "granboltz/stats/gsl_errors.hpp"
 #include "granboltz/stats/statistics.hpp"
 #include "granboltz/tv06/intruder.hpp"
 #include "granboltz/tv06/needle.hpp"
@@ -151,6 +152,7 @@ Record tv06_layout(const Config& config) {
 }
 
 void run_tv06(const Config& config, const DriverOptions& options, Record& record) {
+  install_gsl_error_handler();
   if (config.model == Model::kIntruder) {
     const IntruderConfig& c = config.intruder;
     const bool dsmc = c.method == IntruderMethod::kDsmc;
