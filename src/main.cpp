@@ -13,6 +13,7 @@
 #include "granboltz/io/verify.hpp"
 #include "granboltz/driver/estimate.hpp"
 #include "granboltz/driver/run.hpp"
+#include "granboltz/stats/gsl_errors.hpp"
 #include "granboltz/version.hpp"
 
 namespace {
@@ -35,6 +36,7 @@ std::string joined(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  granboltz::install_gsl_error_handler();  // GSL errors become statuses, never abort()
   CLI::App app{"granboltz: DSMC and event-driven simulation of the heated inelastic Boltzmann "
                "equation (GRW05, RW05, TV06)"};
   app.set_version_flag("--version", std::string("granboltz ") + granboltz::kVersion + " (" +

@@ -1,6 +1,10 @@
 // The `intruder:` and `needle:` sections: reading, validation and emission.
 #include <yaml-cpp/yaml.h>
 
+#include <cmath>
+#include <cstdio>
+#include <string>
+
 #include "granboltz/config/reader.hpp"
 #include "granboltz/tv06/config.hpp"
 
@@ -39,6 +43,30 @@ void read_common(const Section& s, double& alpha, double& density, std::uint64_t
   sample_every = s.real("sample_every", 0.0);
   s.check(sample_every >= 0, "sample_every", sample_every, "must be >= 0 (0: mean free time)");
   warmup = s.integer("warmup", collisions / 10);
+}
+
+/// The needle is simulated in the config's units, so its scales must stay far from the ends of
+/// double precision: beyond these bounds I, 1/M, the rates or the waiting times over- or
+/// underflow (the run would produce NaN and loop forever). Inside them every waiting-time
+/// method works (ρ L² is the parameter that matters: tiny L rotates many turns per collision).
+void check_needle_scales(const Section& s, const NeedleConfig& c) {
+  char here[64];
+  s.check(c.mass >= 1e-300, "mass", c.mass, "must be >= 1e-300 (1/M and the speeds overflow)");
+  s.check(c.a >= 1e-100 && c.a <= 1e100, "a", c.a,
+          "must satisfy 1e-100 <= a <= 1e100 (T_B = 1/(2a) and its powers over/underflow)");
+  const double inertia = c.mass * c.length * c.length / 12.0;
+  std::snprintf(here, sizeof here, " (here %.3g)", inertia);
+  s.check(inertia >= 1e-300 && inertia <= 1e300, "length", c.length,
+          "must give a moment of inertia 1e-300 <= M L^2/12 <= 1e300" + std::string(here));
+  // Phi(0, 0) = rho L / sqrt(pi a); at thermal speeds the rate is at most ~ (1 + 5/sqrt(M)) times it.
+  const double rate = c.density * c.length / std::sqrt(M_PI * c.a);
+  const double fastest = rate * (1.0 + 5.0 / std::sqrt(c.mass));
+  std::snprintf(here, sizeof here, " (here %.3g)", rate);
+  s.check(rate >= 1e-250, "density", c.density,
+          "must give a rate rho L/sqrt(pi a) >= 1e-250" + std::string(here));
+  std::snprintf(here, sizeof here, " (here %.3g)", fastest);
+  s.check(fastest <= 1e250, "density", c.density,
+          "must give a rate (1 + 5/sqrt(M)) rho L/sqrt(pi a) <= 1e250" + std::string(here));
 }
 
 }  // namespace
@@ -83,6 +111,7 @@ NeedleConfig read_needle(const Section& s) {
   c.waiting_time = s.choice("waiting_time", {"thinning", "inversion"}, "thinning") == "inversion"
                        ? NeedleWaitingTime::kInversion
                        : NeedleWaitingTime::kThinning;
+  check_needle_scales(s, c);
   c.velocity_histogram = read_histogram(s, "velocity_histogram");
   c.omega_histogram = read_histogram(s, "omega_histogram");
   s.finish({"mass", "length", "alpha", "a", "density", "collisions", "sample_every", "warmup",

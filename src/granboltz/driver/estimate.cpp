@@ -15,6 +15,7 @@
 #include "granboltz/dsmc/weighted.hpp"
 #include "granboltz/random/rng.hpp"
 #include "granboltz/random/samplers.hpp"
+#include "granboltz/stats/gsl_errors.hpp"
 #include "granboltz/tv06/bath.hpp"
 #include "granboltz/tv06/intruder.hpp"
 #include "granboltz/tv06/needle.hpp"
@@ -63,7 +64,10 @@ double gaussian_moment(double s2, double p) {
 // (Euler's constant / (N pdf)).
 double chi3_expected_max(double N) {
   if (N < 2) return std::sqrt(8.0 / M_PI);
-  const double x = std::sqrt(gsl_cdf_chisq_Qinv(1.0 / N, 3.0));
+  install_gsl_error_handler();
+  double x = std::sqrt(gsl_cdf_chisq_Qinv(1.0 / N, 3.0));
+  // Should GSL fail (it then returns NaN, not abort), the leading term of the tail serves.
+  if (!std::isfinite(x)) x = std::sqrt(2.0 * std::log(N));
   const double pdf = std::sqrt(2.0 / M_PI) * x * x * std::exp(-0.5 * x * x);
   return x + 0.5772156649 / (N * pdf);
 }

@@ -6,9 +6,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <new>
 #include <stdexcept>
+#include <string>
 
 #include "granboltz/random/samplers.hpp"
+#include "granboltz/stats/gsl_errors.hpp"
 
 namespace granboltz::detail {
 namespace {
@@ -52,17 +55,23 @@ ZigguratTables<N> make(const Shape& s, double lo, double hi) {
     return build(*c->s, r, c->z);
   };
   fn.params = &ctx;
+  install_gsl_error_handler();
   gsl_root_fsolver* solver = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
-  gsl_root_fsolver_set(solver, &fn, lo, hi);
+  if (!solver) throw std::bad_alloc();
+  int status = gsl_root_fsolver_set(solver, &fn, lo, hi);
   double r = lo;
-  for (int iter = 0; iter < 200; ++iter) {
-    gsl_root_fsolver_iterate(solver);
+  for (int iter = 0; status == GSL_SUCCESS && iter < 200; ++iter) {
+    status = gsl_root_fsolver_iterate(solver);
     r = gsl_root_fsolver_root(solver);
     if (gsl_root_test_interval(gsl_root_fsolver_x_lower(solver), gsl_root_fsolver_x_upper(solver),
                                0.0, 1e-15) == GSL_SUCCESS)
       break;
   }
   gsl_root_fsolver_free(solver);
+  // Fixed shapes and brackets: a failure here is a bug, reported rather than aborting.
+  if (status != GSL_SUCCESS)
+    throw std::runtime_error("ziggurat tables: root finder failed (" +
+                             describe_gsl_status(status) + ")");
   build(s, r, &z);
   for (int i = 0; i <= N; ++i) z.f[i] = s.f(z.x[i]);
   for (int i = 0; i < N; ++i) z.ratio[i] = z.x[i + 1] / z.x[i];

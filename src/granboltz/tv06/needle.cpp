@@ -5,9 +5,13 @@
 #include <gsl/gsl_roots.h>
 #include <gsl/gsl_sf_erf.h>
 
+#include <cstdio>
+#include <limits>
 #include <stdexcept>
+#include <string>
 
 #include "granboltz/random/rng.hpp"
+#include "granboltz/stats/gsl_errors.hpp"
 
 namespace granboltz::tv06 {
 
@@ -51,6 +55,7 @@ double mean_unit_rate(double zeta, double tau) {
   return unit_rate(zeta) + 2.0 * normal_pdf(zeta) * sum;
 }
 
+constexpr double kPi = 3.141592653589793238463;
 constexpr double kTwoPi = 6.283185307179586476925;
 constexpr std::uint64_t kProgressEvery = 1u << 14;
 
@@ -65,7 +70,9 @@ double NeedleRate::operator()(double vn, double omega) const {
 // ---------------------------------------------------------------------------------------------
 
 WaitingTimeSolver::WaitingTimeSolver(const NeedleRate& rate)
-    : rate_(rate), workspace_(gsl_integration_workspace_alloc(kWorkspace)) {
+    : rate_(rate), workspace_(nullptr) {
+  install_gsl_error_handler();
+  workspace_ = gsl_integration_workspace_alloc(kWorkspace);
   if (!workspace_) throw std::bad_alloc();
 }
 
@@ -77,9 +84,16 @@ double WaitingTimeSolver::rate_at(double t) const {
   return rate_(vn, state_.omega);
 }
 
-double WaitingTimeSolver::integrate(double a, double b) {
-  if (a == b) return 0.0;
-  if (b < a) return -integrate(b, a);
+int WaitingTimeSolver::integrate(double a, double b, double* result) {
+  if (a == b) {
+    *result = 0.0;
+    return GSL_SUCCESS;
+  }
+  if (b < a) {
+    const int status = integrate(b, a, result);
+    *result = -*result;
+    return status;
+  }
   struct Ctx {
     WaitingTimeSolver* self;
   } ctx{this};
@@ -90,42 +104,55 @@ double WaitingTimeSolver::integrate(double a, double b) {
     return c->self->rate_at(t);
   };
   f.params = &ctx;
-  double result = 0.0, error = 0.0;
+  double error = 0.0;
   // Phi > 0 is smooth: relative accuracy 1e-11 is reached without round-off trouble.
-  const int status = gsl_integration_qag(&f, a, b, 0.0, kRelativeTolerance, kWorkspace,
-                                         GSL_INTEG_GAUSS31, workspace_, &result, &error);
-  if (status != GSL_SUCCESS)
-    throw std::runtime_error(std::string("needle waiting time: quadrature failed: ") +
-                             gsl_strerror(status));
-  return result;
+  return gsl_integration_qag(&f, a, b, 0.0, kRelativeTolerance, kWorkspace, GSL_INTEG_GAUSS31,
+                             workspace_, result, &error);
 }
 
 double WaitingTimeSolver::cumulative(double t) {
   const std::pair<double, double>* nearest = &known_.front();
   for (const auto& k : known_)
     if (std::fabs(k.first - t) < std::fabs(nearest->first - t)) nearest = &k;
-  const double value = nearest->second + integrate(nearest->first, t);
+  double part = 0.0;
+  const int status = integrate(nearest->first, t, &part);
+  if (status != GSL_SUCCESS) {
+    // Called from inside GSL's root finder, where no exception may be thrown: record the
+    // failure and hand GSL a value it refuses (it then returns an error status).
+    if (failure_ == GSL_SUCCESS) failure_ = status;
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+  const double value = nearest->second + part;
   known_.emplace_back(t, value);
   return value;
 }
 
 double WaitingTimeSolver::integral(const NeedleState& s, double t) {
   state_ = s;
-  return integrate(0.0, t);
+  double result = 0.0;
+  const int status = integrate(0.0, t, &result);
+  if (status != GSL_SUCCESS)
+    throw std::runtime_error("needle waiting time: quadrature failed: " +
+                             describe_gsl_status(status));
+  return result;
 }
 
-double WaitingTimeSolver::solve(const NeedleState& s, double target) {
-  state_ = s;
-  known_.clear();
-  known_.emplace_back(0.0, 0.0);
-  const double hi_rate = rate_.upper_bound(std::hypot(s.vx, s.vy), s.omega);
-  const double lo_rate = rate_.lower_bound(s.omega);
-  double lo = target / hi_rate, hi = target / lo_rate;
-  if (hi - lo <= 1e-15 * hi) return 0.5 * (lo + hi);  // Phi constant (v1 = 0)
+int WaitingTimeSolver::find_root(double target, double lo, double hi, double* root) {
+  failure_ = GSL_SUCCESS;
   // The bounds' margin (1e-12) is below the quadrature's tolerance: if an end does not straddle
   // the root within that tolerance, it is the root (and GSL must never see such a bracket).
-  if (cumulative(lo) >= target) return lo;
-  if (cumulative(hi) <= target) return hi;
+  const double at_lo = cumulative(lo);
+  if (failure_ != GSL_SUCCESS) return failure_;
+  if (at_lo >= target) {
+    *root = lo;
+    return GSL_SUCCESS;
+  }
+  const double at_hi = cumulative(hi);
+  if (failure_ != GSL_SUCCESS) return failure_;
+  if (at_hi <= target) {
+    *root = hi;
+    return GSL_SUCCESS;
+  }
 
   struct Ctx {
     WaitingTimeSolver* self;
@@ -139,21 +166,67 @@ double WaitingTimeSolver::solve(const NeedleState& s, double target) {
   f.params = &ctx;
   gsl_root_fsolver* solver = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
   if (!solver) throw std::bad_alloc();
-  double root = 0.5 * (lo + hi);
+  *root = 0.5 * (lo + hi);
   int status = gsl_root_fsolver_set(solver, &f, lo, hi);
   for (int iter = 0; status == GSL_SUCCESS && iter < 200; ++iter) {
     status = gsl_root_fsolver_iterate(solver);
-    root = gsl_root_fsolver_root(solver);
+    *root = gsl_root_fsolver_root(solver);
     lo = gsl_root_fsolver_x_lower(solver);
     hi = gsl_root_fsolver_x_upper(solver);
     // The quadrature is good to 1e-11: a tighter root would only chase its rounding.
     if (gsl_root_test_interval(lo, hi, 0.0, 1e-12) == GSL_SUCCESS) break;
   }
   gsl_root_fsolver_free(solver);
-  if (status != GSL_SUCCESS)
-    throw std::runtime_error(std::string("needle waiting time: root finder failed: ") +
-                             gsl_strerror(status));
-  return root;
+  return failure_ != GSL_SUCCESS ? failure_ : status;
+}
+
+double WaitingTimeSolver::solve(const NeedleState& s, double target) {
+  state_ = s;
+  known_.clear();
+  known_.emplace_back(0.0, 0.0);
+  const double hi_rate = rate_.upper_bound(std::hypot(s.vx, s.vy), s.omega);
+  const double lo_rate = rate_.lower_bound(s.omega);
+  const double lo = target / hi_rate, hi = target / lo_rate;
+  if (hi - lo <= 1e-15 * hi) return 0.5 * (lo + hi);  // Phi constant (v1 = 0)
+  // Phi(t) has the period of half a turn (Phi is even in v_n). Over many turns one quadrature
+  // over the whole bracket would need more subintervals than qag has, so then the whole
+  // half-turns are counted and only the remainder is solved for. Below kManyHalfTurns (and
+  // whenever it succeeds) the direct solve is kept: its results are the published ones.
+  const double half_turn = s.omega != 0.0 ? kPi / std::fabs(s.omega) : 0.0;
+  const bool periodic = half_turn > 0.0 && std::isfinite(half_turn);
+  double root = 0.0;
+  int status = GSL_SUCCESS;
+  if (!periodic || hi <= kManyHalfTurns * half_turn) {
+    status = find_root(target, lo, hi, &root);
+    if (status == GSL_SUCCESS) return root;
+    if (!periodic) throw std::runtime_error(failure_message(status));
+  }
+  return solve_by_half_turns(target, half_turn, hi_rate, lo_rate);
+}
+
+double WaitingTimeSolver::solve_by_half_turns(double target, double half_turn, double hi_rate,
+                                              double lo_rate) {
+  known_.clear();
+  known_.emplace_back(0.0, 0.0);
+  double per_half_turn = 0.0;
+  int status = integrate(0.0, half_turn, &per_half_turn);
+  if (status != GSL_SUCCESS) throw std::runtime_error(failure_message(status));
+  // The phase after k half-turns is the start's again, so the cache of [0, half_turn] serves.
+  known_.emplace_back(half_turn, per_half_turn);
+  const double turns = std::floor(target / per_half_turn);
+  const double rest = std::clamp(target - turns * per_half_turn, 0.0, per_half_turn);
+  if (rest == 0.0) return turns * half_turn;
+  const double lo = std::min(rest / hi_rate, half_turn);
+  const double hi = std::min(rest / lo_rate, half_turn);
+  double root = 0.0;
+  status = lo < hi ? find_root(rest, lo, hi, &root) : (root = lo, GSL_SUCCESS);
+  if (status != GSL_SUCCESS) throw std::runtime_error(failure_message(status));
+  return turns * half_turn + root;
+}
+
+std::string WaitingTimeSolver::failure_message(int status) const {
+  return "needle waiting time: the inversion did not converge (" + describe_gsl_status(status) +
+         ")";
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -196,6 +269,17 @@ class NeedleAverages {
     r->translational_ratio = 0.5 * body.mass * v2 / bath_temperature;
     r->rotational_ratio = body.inertia * o2 / bath_temperature;
     r->R = v2o2 / (v2 * o2);
+    // Extreme but valid scales (a needle far heavier or lighter than the bath) can leave the
+    // averages outside double precision; say so with the config, rather than as a bare NaN.
+    if (!std::isfinite(r->translational_ratio) || !std::isfinite(r->rotational_ratio) ||
+        !std::isfinite(r->R)) {
+      char what[200];
+      std::snprintf(what, sizeof what,
+                    "needle.mass = %.6g: non-finite value of T_trans, T_rot or R (length = %.6g, "
+                    "a = %.6g): the averages over- or underflow in double precision",
+                    body.mass, body.length, 1.0 / (2.0 * bath_temperature));
+      throw std::runtime_error(what);
+    }
     r->samples = samples_;
     r->time = t - t0_;
     r->velocity_histogram = std::move(vel_);
@@ -209,6 +293,23 @@ class NeedleAverages {
   double dt_, t0_ = 0.0;
   std::uint64_t samples_ = 0;
 };
+
+}  // namespace
+
+namespace {
+
+// The solver's failure, with the config that led to it (the solver knows only the rate).
+double sample_by_inversion(WaitingTimeSolver& solver, const NeedleState& s, Engine& eng,
+                           const NeedleConfig& c) {
+  try {
+    return solver.sample(s, eng);
+  } catch (const std::runtime_error& e) {
+    char where[160];
+    std::snprintf(where, sizeof where, "needle.waiting_time = inversion (mass = %.6g, length = %.6g, "
+                  "density = %.6g, a = %.6g): ", c.mass, c.length, c.density, c.a);
+    throw std::runtime_error(where + std::string(e.what()) + "; use waiting_time: thinning");
+  }
+}
 
 }  // namespace
 
@@ -233,7 +334,7 @@ NeedleEnsemble simulate_needle(const NeedleConfig& c, std::uint64_t seed, std::u
     }
     const double wait = c.waiting_time == NeedleWaitingTime::kThinning
                             ? waiting_time_by_thinning(rate, s, eng, &rejected)
-                            : solver.sample(s, eng);
+                            : sample_by_inversion(solver, s, eng, c);
     t += wait;
     if (i >= c.warmup) avg.advance(t, s);
     // The free rotation up to the collision (eq. 20); v1 and omega are unchanged.

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -149,20 +150,28 @@ class WaitingTimeSolver {
   }
 
  private:
-  /// qag subintervals: enough for thousands of turns of the needle within one waiting time, so
-  /// that qag cannot run out of them (GSL's default error handler would abort).
+  /// qag subintervals: enough for thousands of turns of the needle within one waiting time.
   static constexpr std::size_t kWorkspace = 4096;
   static constexpr double kRelativeTolerance = 1e-11;  ///< of each quadrature
+  /// Brackets longer than this many half-turns are solved by whole half-turns (solve()).
+  static constexpr double kManyHalfTurns = 1e4;
 
   double rate_at(double t) const;
-  double integrate(double a, double b);
-  double cumulative(double t);  // ∫_0^t from the nearest cached point
+  /// ∫_a^b Phi by qag into *result; GSL's status.
+  int integrate(double a, double b, double* result);
+  /// ∫_0^t from the nearest cached point; NaN (and failure_ set) if the quadrature fails.
+  double cumulative(double t);
+  /// Brent's root of cumulative(t) = target in [lo, hi]; GSL's status (or the quadrature's).
+  int find_root(double target, double lo, double hi, double* root);
+  double solve_by_half_turns(double target, double half_turn, double hi_rate, double lo_rate);
+  std::string failure_message(int status) const;
 
   const NeedleRate& rate_;
   NeedleState state_;
   gsl_integration_workspace* workspace_;
   std::vector<std::pair<double, double>> known_;  // (t, ∫_0^t Phi) of this solve
   std::uint64_t evaluations_ = 0;
+  int failure_ = 0;  // first failed quadrature status of the current root search
 };
 
 /// The time averages and counts of one ensemble of a needle run.

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "granboltz/stats/gsl_errors.hpp"
 #include "granboltz/stats/statistics.hpp"
 #include "granboltz/tv06/intruder.hpp"
 #include "granboltz/tv06/needle.hpp"
@@ -168,6 +169,7 @@ void add_finite(Record& record, const std::string& name, double value, std::uint
 }  // namespace
 
 void run_tv06(const Config& config, const DriverOptions& options, Record& record) {
+  install_gsl_error_handler();
   if (config.model == Model::kIntruder) {
     const IntruderConfig& c = config.intruder;
     const bool dsmc = c.method == IntruderMethod::kDsmc;
