@@ -67,15 +67,21 @@ Config parse_config(const std::string& yaml_text, const std::string& origin,
 }
 
 Config load_config(const std::string& path, const std::vector<std::string>& overrides) {
+  const std::string shown = quote_value(path, 300);
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec))
-    throw ConfigError(path + ": is a directory, not a config file");
-  std::ifstream in(path);
-  if (!in) throw ConfigError(path + ": cannot open config file");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) throw ConfigError(path + ": cannot read config file");
-  return parse_config(ss.str(), path, overrides);
+    throw ConfigError(shown + ": is a directory, not a config file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw ConfigError(shown + ": cannot open config file");
+  // Read one byte more than a config may hold, and no more: /dev/zero is not read forever.
+  std::string text(kMaxConfigBytes + 1, '\0');
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  if (in.bad()) throw ConfigError(shown + ": cannot read config file");
+  text.resize(static_cast<std::size_t>(in.gcount()));
+  if (text.size() > kMaxConfigBytes)
+    throw ConfigError(shown + ": more than " + std::to_string(kMaxConfigBytes) +
+                      " bytes; a config is at most " + std::to_string(kMaxConfigBytes) + " bytes");
+  return parse_config(text, path, overrides);
 }
 
 std::string Config::to_yaml(bool physics_only) const {
