@@ -347,7 +347,7 @@ YAML::Node Section::at(const std::string& key, const std::string& what, bool has
   // A null is refused rather than read as absent: `--set ensembles=~` must not quietly mean 1.
   if (n.IsNull())
     throw ConfigError(name(key) + " = null: must be " + what + ", not null" +
-                      (has_default ? " (leave the key out for its default)" : " (required)"));
+                      (has_default ? " (leave the key out for its default)" : ""));
   return n;
 }
 
