@@ -51,6 +51,7 @@ std::string short_tag(const std::string& tag) {
 // A value as shown in a message: scalars as written (quoted ones in quotes, tagged ones with
 // their tag), collections abbreviated.
 std::string shown(const YAML::Node& n) {
+  if (!n) return "(nothing)";
   if (n.IsNull()) return "null";
   if (n.IsSequence()) return "[...]";
   if (n.IsMap()) return "{...}";
@@ -100,7 +101,10 @@ class DocumentChecker : public YAML::EventHandler {
   }
   void OnAlias(const YAML::Mark& mark, YAML::anchor_t anchor) override {
     const auto it = anchors_.find(anchor);
-    if (it == anchors_.end()) return;  // the parser itself reports an undefined anchor
+    if (it == anchors_.end()) {  // not expected: the parser refuses an undefined anchor
+      leaf(mark, YAML::NullAnchor, nullptr);
+      return;
+    }
     const Anchor& a = it->second;
     if (a.open)
       throw ConfigError(origin_ + ": the alias *" + quote_value(a.name, 40) + " at line " +

@@ -26,7 +26,7 @@ class ConfigError : public std::runtime_error {
 
 class Section {
  public:
-  /// `node` must be a mapping (or null, read as empty); `path` is its dotted key, "" at the top.
+  /// `node` must be a mapping (a null is refused); `path` is its dotted key, "" at the top.
   Section(const YAML::Node& node, std::string path);
 
   /// Whether the key is written, even with a null value (which every accessor then refuses).
