@@ -27,6 +27,10 @@ extern "C" void on_signal(int sig) {
   ::_exit(128 + sig);
 }
 
+// Every error is printed as one line: whatever a message carries (a path or an argument with a
+// newline, a library's text), control characters are escaped; a message is cut at 1000.
+std::string one_line(const std::string& message) { return granboltz::quote_value(message, 1000); }
+
 std::string joined(int argc, char** argv) {
   std::string s;
   for (int i = 0; i < argc; ++i) s += (i ? " " : "") + std::string(argv[i]);
@@ -94,7 +98,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr,
                    "granboltz: error: %s: unknown option; expected a command: run, estimate, "
                    "validate, merge or verify (see granboltz --help)\n",
-                   argv[1]);
+                   one_line(argv[1]).c_str());
       return 2;
     }
   } else {
@@ -104,7 +108,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr,
                    "granboltz: error: %s: unknown command; expected run, estimate, validate, "
                    "merge or verify (see granboltz --help)\n",
-                   argv[1]);
+                   one_line(argv[1]).c_str());
       return 2;
     }
   }
@@ -115,7 +119,7 @@ int main(int argc, char** argv) {
     std::string what = e.what();
     for (auto& ch : what)
       if (ch == '\n' || ch == '\r') ch = ' ';
-    std::fprintf(stderr, "granboltz: error: %s (see granboltz --help)\n", what.c_str());
+    std::fprintf(stderr, "granboltz: error: %s (see granboltz --help)\n", one_line(what).c_str());
     return 2;
   }
 
@@ -166,13 +170,13 @@ int main(int argc, char** argv) {
     granboltz::run_to_file(config, output, options, joined(argc, argv));
     return 0;
   } catch (const granboltz::ConfigError& e) {
-    std::fprintf(stderr, "granboltz: error: %s\n", e.what());
+    std::fprintf(stderr, "granboltz: error: %s\n", one_line(e.what()).c_str());
     return 2;
   } catch (const std::bad_alloc&) {
     std::fprintf(stderr, "granboltz: error: out of memory\n");
     return 1;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "granboltz: error: %s\n", e.what());
+    std::fprintf(stderr, "granboltz: error: %s\n", one_line(e.what()).c_str());
     return 1;
   } catch (...) {
     std::fprintf(stderr, "granboltz: error: unexpected internal error\n");

@@ -69,23 +69,26 @@ Config parse_config(const std::string& yaml_text, const std::string& origin,
 }
 
 Config load_config(const std::string& path, const std::vector<std::string>& overrides) {
-  // stat, not open: opening a FIFO would block until someone writes to it.
+  const std::string shown = quote_value(path, 300);
+  // stat, not open: opening a FIFO would block until someone writes to it, and a device such as
+  // /dev/zero would be read without end.
   struct stat st{};
   if (::stat(path.c_str(), &st) == 0) {
-    if (S_ISDIR(st.st_mode)) throw ConfigError(path + ": is a directory, not a config file");
+    if (S_ISDIR(st.st_mode)) throw ConfigError(shown + ": is a directory, not a config file");
     if (!S_ISREG(st.st_mode))
-      throw ConfigError(path + ": is not a regular file (a FIFO or a device?), not a config file");
-    // A config is a few kilobytes; a huge file is a wrong path, not a config.
-    if (st.st_size > (1 << 20))
-      throw ConfigError(path + ": is " + std::to_string(st.st_size) +
-                        " bytes; a config file is at most 1 MiB");
+      throw ConfigError(shown + ": is not a regular file (a FIFO or a device?), not a config file");
   }
-  std::ifstream in(path);
-  if (!in) throw ConfigError(path + ": cannot open config file");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) throw ConfigError(path + ": cannot read config file");
-  return parse_config(ss.str(), path, overrides);
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw ConfigError(shown + ": cannot open config file");
+  // One byte more than a config may hold, and no more: a file growing while read is cut short.
+  std::string text(kMaxConfigBytes + 1, '\0');
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  if (in.bad()) throw ConfigError(shown + ": cannot read config file");
+  text.resize(static_cast<std::size_t>(in.gcount()));
+  if (text.size() > kMaxConfigBytes)
+    throw ConfigError(shown + ": more than " + std::to_string(kMaxConfigBytes) +
+                      " bytes; a config is at most " + std::to_string(kMaxConfigBytes) + " bytes");
+  return parse_config(text, path, overrides);
 }
 
 std::string Config::to_yaml(bool physics_only) const {

@@ -1,8 +1,14 @@
 #pragma once
 // Typed, validated access to one YAML mapping of a run config. Every error names the full key,
 // the offending value and what is allowed; keys that are never read are reported as unknown.
+//
+// Typing is strict: a number is a plain (unquoted, untagged or !!int/!!float) scalar, so '0.5'
+// and !!str 0.5 are strings; an explicit null (~, null, nothing) is an error for every key, and
+// only a key left out takes its default. Errors are one line: values and keys are shown through
+// quote_value.
 #include <yaml-cpp/yaml.h>
 
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <set>
@@ -20,9 +26,10 @@ class ConfigError : public std::runtime_error {
 
 class Section {
  public:
-  /// `node` must be a mapping (or null, read as empty); `path` is its dotted key, "" at the top.
+  /// `node` must be a mapping (a null is refused); `path` is its dotted key, "" at the top.
   Section(const YAML::Node& node, std::string path);
 
+  /// Whether the key is written, even with a null value (which every accessor then refuses).
   bool has(const std::string& key) const;
   /// The full dotted name of a key of this section, as written in error messages.
   std::string name(const std::string& key) const;
@@ -34,7 +41,7 @@ class Section {
   std::string choice(const std::string& key, const std::vector<std::string>& allowed) const;
   std::string choice(const std::string& key, const std::vector<std::string>& allowed,
                      const std::string& fallback) const;
-  /// A sub-mapping; absent keys give an empty section.
+  /// A sub-mapping; an absent key gives an empty section, a null one is an error.
   Section sub(const std::string& key) const;
 
   /// Throws for a value outside its allowed range: "<key> = <value>: <allowed>".
@@ -43,13 +50,32 @@ class Section {
   void finish(const std::vector<std::string>& allowed_keys) const;
 
  private:
-  YAML::Node at(const std::string& key) const;
+  /// The value of a written key that is not null; `what` is what it must be ("a number").
+  YAML::Node at(const std::string& key, const std::string& what, bool has_default) const;
+  double real_of(const YAML::Node& n, const std::string& key) const;
+  std::uint64_t integer_of(const YAML::Node& n, const std::string& key) const;
+  std::string choice_of(const YAML::Node& n, const std::string& key,
+                        const std::vector<std::string>& allowed) const;
   YAML::Node node_;
   std::string path_;
   mutable std::set<std::string> seen_;
 };
 
+/// Bounds on a config as written (see load_yaml_with_overrides). A config has about a hundred
+/// nodes and a few hundred bytes: these leave a thousandfold margin and still bound the work.
+inline constexpr std::size_t kMaxConfigBytes = std::size_t{1} << 20;
+inline constexpr std::size_t kMaxNodes = 100'000;  ///< as written, and again with aliases expanded
+inline constexpr int kMaxDepth = 64;               ///< nested mappings and sequences
+
+/// `s` as shown in a one-line message: control characters escaped (\n, \t, \x1b, ...) and, if
+/// longer than `max` characters, cut there with "… (N characters)".
+std::string quote_value(const std::string& s, std::size_t max = 80);
+
 /// Parses `text` as YAML and applies "--set a.b.c=value" overrides (value parsed as YAML).
+/// The text and every value are first checked as written, with the event parser: at most
+/// kMaxConfigBytes and kMaxNodes (also counting every alias as the nodes it stands for, so an
+/// alias bomb is refused without being expanded), kMaxDepth levels (also through aliases), no
+/// alias inside the node it refers to, and no key given twice in a mapping.
 YAML::Node load_yaml_with_overrides(const std::string& text, const std::string& origin,
                                     const std::vector<std::string>& overrides);
 
