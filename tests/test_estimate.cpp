@@ -3,6 +3,11 @@
 // schemes and majorants and for the TV06 intruder and needle.
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+
 #include "granboltz/driver/estimate.hpp"
 #include "granboltz/driver/run.hpp"
 #include "granboltz/io/hdf5_io.hpp"
@@ -101,6 +106,9 @@ void expect_estimate_matches(const char* text, const std::vector<std::string>& s
   std::string label;
   for (const auto& s : sets) label += s + " ";
   for (const auto& c : checks) {
+    if (std::getenv("GRANBOLTZ_PRINT_RATIOS") && c.counted > 0)
+      std::printf("estimate/counted %-10s %.4f  %s\n", c.name, c.estimated / c.counted,
+                  label.c_str());
     if (c.counted == 0) {
       EXPECT_EQ(c.estimated, 0.0) << label << c.name;
       continue;
@@ -123,6 +131,24 @@ TEST(Estimate, DsmcEventsAreWithinTenPercentOfCountedForEverySchemeAndMajorant) 
                                          "dsmc.gamma=1", "dsmc.beta=1", "dsmc.t_end=8"});
   expect_estimate_matches(kHardSpheres, {"dsmc.alpha=0.1", "dsmc.beta=30", "dsmc.gamma=16",
                                          "dsmc.t_end=0.1", "dsmc.observe_every=0.05"});
+}
+
+TEST(Estimate, SplittingWithManyStepsAndTheGaussianThermostatMatchCounted) {
+  // Many steps: n kicks per step, and U_max sees them all.
+  expect_estimate_matches(kHardSpheres, {"dsmc.scheme=euler", "dsmc.steps=4000"});
+  expect_estimate_matches(kHardSpheres, {"dsmc.scheme=strang", "dsmc.steps=2000"});
+  expect_estimate_matches(kHardSpheres, {"dsmc.scheme=euler", "dsmc.steps=2000",
+                                         "dsmc.majorant=pairwise"});
+  // The Gaussian thermostat holds T at T0: hard spheres collide at the rate of T0 all along (an
+  // estimate that let T cool as if unheated was 3.4 times low).
+  expect_estimate_matches(kHardSpheres, {"dsmc.thermostat=gaussian", "dsmc.beta=0"});
+  expect_estimate_matches(kHardSpheres, {"dsmc.thermostat=gaussian", "dsmc.beta=0",
+                                         "dsmc.majorant=pairwise"});
+  expect_estimate_matches(kHardSpheres, {"dsmc.thermostat=gaussian", "dsmc.beta=0",
+                                         "dsmc.scheme=strang", "dsmc.steps=64"});
+  // Free cooling (Haff's law): the majorant stays, the real collisions slow down.
+  expect_estimate_matches(kHardSpheres, {"dsmc.thermostat=none", "dsmc.beta=0", "dsmc.t_end=8",
+                                         "dsmc.observe_every=1"});
 }
 
 TEST(Estimate, WeightedParticleEventsFromThePilotMatchCounted) {
