@@ -1,17 +1,20 @@
 #include "granboltz/driver/estimate.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
-#include <condition_variable>
+#include <cerrno>
+#include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <functional>
-#include <mutex>
 #include <string>
-#include <thread>
 #include <utility>
 #include <vector>
+
+#include <poll.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "granboltz/driver/ensemble_driver.hpp"
 #include "granboltz/driver/run.hpp"
@@ -221,9 +224,18 @@ DsmcEvents dsmc_events(const DsmcConfig& d, double ensembles) {
 // measured on a pilot, ensemble 0 of the run itself, until it has drawn kPilotCandidates
 // candidates; the rates of its second half are extrapolated to t_end. The pilot stops at the
 // observations (a run kicks every particle there) and at least kPilotStops times in [0, t_end];
-// the kicks of its stops are not counted, those of the run's observations are added. It is also
-// stopped after kPilotSeconds of wall time (a huge gamma puts 10^5 candidates into a sliver of
-// the first stop, a tiny one never draws them), and extrapolated from where it got to.
+// the kicks of its stops are not counted, those of the run's observations are added.
+// It runs in a child process that reports every stop through a pipe and is killed after
+// kPilotSeconds: a huge gamma puts 10^5 candidates into a sliver of the first stop, a tiny one
+// never draws them, and an extreme config can keep one reduction busy for minutes (gamma = 1e12:
+// more than 10 minutes), none of which a flag checked between events could stop. The estimate is
+// extrapolated from the last stop reported.
+// Thrown inside the estimate when a quantity it cannot represent turns up (not a config error
+// by itself: estimate_run names the key).
+struct NotFinite {
+  std::string why;
+};
+
 constexpr double kPilotCandidates = 1e5;
 constexpr double kPilotStops = 64.0;
 constexpr double kPilotSeconds = 1.0;
@@ -231,97 +243,152 @@ constexpr double kPilotSeconds = 1.0;
 struct WeightedCost {
   DsmcEvents events;
   double seconds = 0.0;  // one ensemble on one thread
+  bool stuck = false;    // the pilot did not pass its first stop: seconds is a lower bound
 };
 
-// Sets `flag` after `seconds` unless destroyed first.
-class Deadline {
- public:
-  Deadline(std::atomic<bool>& flag, double seconds)
-      : thread_([this, &flag, seconds] {
-          std::unique_lock<std::mutex> lock(mutex_);
-          if (!cv_.wait_for(lock, std::chrono::duration<double>(seconds), [this] { return done_; }))
-            flag = true;
-        }) {}
-  ~Deadline() {
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      done_ = true;
-    }
-    cv_.notify_all();
-    thread_.join();
-  }
-
- private:
-  std::mutex mutex_;
-  std::condition_variable cv_;
-  bool done_ = false;
-  std::thread thread_;
+// One stop of the pilot: its events so far, and what the extrapolation needs besides.
+struct PilotMark {
+  double t, candidates, collisions, kicks, seconds;
+  double observed, observation_kicks, particles;
 };
 
-WeightedCost weighted_cost(const DsmcConfig& d, std::uint64_t seed) {
+// Runs the pilot, handing every stop to `emit`.
+template <class Emit>
+void run_pilot(const DsmcConfig& d, std::uint64_t seed, Emit&& emit) {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   WeightedEnsemble pilot(d, seed, 0);
   const bool heated = d.thermostat == Thermostat::kWhiteNoise && d.beta > 0.0;
   const std::vector<double> times = dsmc_times(d);
-  struct Mark {
-    double t, candidates, collisions, kicks, seconds;
-  };
-  double stop_kicks = 0.0, observation_kicks = 0.0;
-  std::vector<Mark> marks;
+  double stop_kicks = 0.0, observation_kicks = 0.0, observed = 0.0, candidates = 0.0;
   auto mark = [&](double t) {
     const EventCounts& c = pilot.counts();
-    marks.push_back({t, static_cast<double>(c.collisions + c.fictitious),
-                     static_cast<double>(c.collisions), static_cast<double>(c.kicks) - stop_kicks,
-                     std::chrono::duration<double>(Clock::now() - start).count()});
+    candidates = static_cast<double>(c.collisions + c.fictitious);
+    emit(PilotMark{t, candidates, static_cast<double>(c.collisions),
+                   static_cast<double>(c.kicks) - stop_kicks,
+                   std::chrono::duration<double>(Clock::now() - start).count(), observed,
+                   observation_kicks, static_cast<double>(pilot.particles().size())});
   };
   mark(0.0);
-  std::atomic<bool> stop{false};
-  std::size_t observed = 0;  // observations the pilot reached
-  {
-    const Deadline deadline(stop, kPilotSeconds);
-    for (std::size_t m = 1; m < times.size() && marks.back().candidates < kPilotCandidates && !stop;
-         ++m) {
-      const double from = times[m - 1], to = times[m];
-      const double pieces = std::max(1.0, std::ceil((to - from) * kPilotStops / d.t_end));
-      for (double k = 1.0; k <= pieces && marks.back().candidates < kPilotCandidates; ++k) {
-        const double s = k == pieces ? to : from + (to - from) * k / pieces;
-        if (!pilot.advance_to(s, &stop)) {  // out of time: the pilot ends where it is
-          mark(pilot.time());
-          break;
-        }
-        const double n = static_cast<double>(pilot.particles().size());
-        if (heated) stop_kicks += n;  // kick_all_to(s) at the end of advance_to
-        if (k == pieces) {  // an observation of the run
-          ++observed;
-          if (heated) observation_kicks += n;
-        }
-        mark(s);
+  for (std::size_t m = 1; m < times.size() && candidates < kPilotCandidates; ++m) {
+    const double from = times[m - 1], to = times[m];
+    const double pieces = std::max(1.0, std::ceil((to - from) * kPilotStops / d.t_end));
+    for (double k = 1.0; k <= pieces && candidates < kPilotCandidates; ++k) {
+      const double s = k == pieces ? to : from + (to - from) * k / pieces;
+      pilot.advance_to(s);
+      const double n = static_cast<double>(pilot.particles().size());
+      if (heated) stop_kicks += n;  // kick_all_to(s) at the end of advance_to
+      if (k == pieces) {  // an observation of the run
+        ++observed;
+        if (heated) observation_kicks += n;
       }
+      mark(s);
     }
   }
-  const Mark& last = marks.back();
+}
+
+// The pilot's stops, from a child process given kPilotSeconds (in this process if it cannot
+// fork). An error of the pilot (the run would meet it too) is thrown here with its message.
+std::vector<PilotMark> pilot_marks(const DsmcConfig& d, std::uint64_t seed) {
+  std::vector<PilotMark> marks;
+  int fds[2];
+  if (::pipe(fds) != 0) {
+    run_pilot(d, seed, [&](const PilotMark& m) { marks.push_back(m); });
+    return marks;
+  }
+  const pid_t child = ::fork();
+  if (child < 0) {
+    ::close(fds[0]);
+    ::close(fds[1]);
+    run_pilot(d, seed, [&](const PilotMark& m) { marks.push_back(m); });
+    return marks;
+  }
+  if (child == 0) {  // the pilot; a record with t < 0 carries an error message
+    ::close(fds[0]);
+    auto put = [&](const void* p, std::size_t bytes) {
+      const char* c = static_cast<const char*>(p);
+      while (bytes) {
+        const ssize_t w = ::write(fds[1], c, bytes);
+        if (w <= 0) ::_exit(1);
+        c += w, bytes -= static_cast<std::size_t>(w);
+      }
+    };
+    try {
+      run_pilot(d, seed, [&](const PilotMark& m) { put(&m, sizeof m); });
+    } catch (const std::exception& x) {
+      const std::string what = x.what();
+      PilotMark error{-1.0, static_cast<double>(what.size()), 0, 0, 0, 0, 0, 0};
+      put(&error, sizeof error);
+      put(what.data(), what.size());
+    }
+    ::_exit(0);
+  }
+  ::close(fds[1]);
+  using Clock = std::chrono::steady_clock;
+  const auto deadline = Clock::now() + std::chrono::duration<double>(kPilotSeconds);
+  std::string buffer, error;
+  bool failed = false;
+  for (;;) {
+    const double left = std::chrono::duration<double>(deadline - Clock::now()).count();
+    if (left <= 0) break;
+    pollfd p{fds[0], POLLIN, 0};
+    const int ready = ::poll(&p, 1, static_cast<int>(std::ceil(left * 1000)));
+    if (ready < 0 && errno == EINTR) continue;
+    if (ready <= 0) break;
+    char chunk[4096];
+    const ssize_t r = ::read(fds[0], chunk, sizeof chunk);
+    if (r < 0 && errno == EINTR) continue;
+    if (r <= 0) break;  // the pilot is done
+    buffer.append(chunk, static_cast<std::size_t>(r));
+  }
+  ::kill(child, SIGKILL);  // ours, by its id; a no-op if it has ended
+  ::waitpid(child, nullptr, 0);
+  ::close(fds[0]);
+  for (std::size_t at = 0; at + sizeof(PilotMark) <= buffer.size(); at += sizeof(PilotMark)) {
+    PilotMark m;
+    std::memcpy(&m, buffer.data() + at, sizeof m);
+    if (m.t < 0) {
+      failed = true;
+      error = buffer.substr(at + sizeof m, static_cast<std::size_t>(m.candidates));
+      break;
+    }
+    marks.push_back(m);
+  }
+  if (failed) throw std::runtime_error(error);
+  return marks;
+}
+
+WeightedCost weighted_cost(const DsmcConfig& d, std::uint64_t seed) {
+  const bool heated = d.thermostat == Thermostat::kWhiteNoise && d.beta > 0.0;
+  const std::vector<PilotMark> marks = pilot_marks(d, seed);
+  WeightedCost cost;
+  // A pilot that did not pass its first stop (1/64 of t_end at most) in kPilotSeconds: the run
+  // takes longer than kPilotStops times that, all that is known.
+  WeightedCost stuck;
+  stuck.stuck = true;
+  stuck.seconds = kPilotSeconds * kPilotStops;
+  if (marks.size() < 2) return stuck;
+  const PilotMark& last = marks.back();
   // The rates of the pilot's second half (the particle number has left its initial value).
-  const Mark* half = &marks.front();
-  for (const Mark& x : marks)
+  const PilotMark* half = &marks.front();
+  for (const PilotMark& x : marks)
     if (x.t >= 0.5 * last.t && x.t < last.t) {
       half = &x;
       break;
     }
   const double ahead = d.t_end - last.t, span = last.t - half->t;
-  auto extrapolate = [&](double Mark::*x) {
+  if (!(span > 0.0)) return stuck;
+  auto extrapolate = [&](double PilotMark::*x) {
     if (!(ahead > 0.0)) return last.*x;
-    // A pilot stopped before its clock moved: its rate is unknown, so the estimate is not finite.
-    if (!(span > 0.0)) return HUGE_VAL;
     return last.*x + (last.*x - half->*x) / span * ahead;
   };
-  WeightedCost cost;
-  cost.events.candidates = extrapolate(&Mark::candidates);
-  cost.events.collisions = extrapolate(&Mark::collisions);
-  const double remaining = static_cast<double>(times.size() - 1 - observed);
-  cost.events.kicks = extrapolate(&Mark::kicks) + observation_kicks +
-                      (heated ? remaining * static_cast<double>(pilot.particles().size()) : 0.0);
-  cost.seconds = extrapolate(&Mark::seconds);
+  cost.events.candidates = extrapolate(&PilotMark::candidates);
+  cost.events.collisions = extrapolate(&PilotMark::collisions);
+  const double remaining = static_cast<double>(d.observations()) - last.observed;
+  cost.events.kicks = extrapolate(&PilotMark::kicks) + last.observation_kicks +
+                      (heated ? remaining * last.particles : 0.0);
+  // The pilot's wall time so far is in its last stop; the time to its kill is not.
+  cost.seconds = extrapolate(&PilotMark::seconds);
   return cost;
 }
 
@@ -477,12 +544,6 @@ bool finite(const RunEstimate& e) {
          e.seconds >= 0;
 }
 
-// Thrown inside the estimate when a quantity it cannot represent turns up (not a config error
-// by itself: estimate_run names the key).
-struct NotFinite {
-  std::string why;
-};
-
 RunEstimate estimate_unchecked(const Config& config, unsigned threads, bool pilots) {
   RunEstimate e;
   e.ensembles = config.last_ensemble() - config.first_ensemble();
@@ -503,8 +564,12 @@ RunEstimate estimate_unchecked(const Config& config, unsigned threads, bool pilo
       const double observe_ns = one.ns - one.candidates * ns_per_dsmc_event(
                                                               static_cast<double>(d.particles),
                                                               d.majorant);
-      one = pilot.events;
-      ns = N * (pilot.seconds * 1e9 + std::max(0.0, observe_ns));
+      // A stuck pilot: the events of constant weights stand in, and the time is a lower bound,
+      // the larger of the pilot's and that of the constant-weight events.
+      e.lower_bound = pilot.stuck;
+      ns = N * (pilot.stuck ? std::max(pilot.seconds * 1e9, one.ns)
+                            : pilot.seconds * 1e9 + std::max(0.0, observe_ns));
+      if (!pilot.stuck) one = pilot.events;
     } else {
       ns = N * one.ns;
     }
@@ -525,8 +590,8 @@ RunEstimate estimate_unchecked(const Config& config, unsigned threads, bool pilo
     const double samples =
         static_cast<double>(c.collisions) / cost.mean_rate / tv06::intruder_sample_interval(c);
     if (!(samples < kMaxSamples))
-      throw NotFinite{"the run's " + format_samples(samples) + " samples per ensemble overflow "
-                      "its 64-bit sample clock (more than 2^63)"};
+      throw NotFinite{"the run would take " + format_samples(samples) +
+                      " samples per ensemble, more than its 64-bit sample clock counts (2^63)"};
   } else {
     const NeedleConfig& c = config.needle;
     e.collisions = N * static_cast<double>(c.warmup + c.collisions);
@@ -540,8 +605,8 @@ RunEstimate estimate_unchecked(const Config& config, unsigned threads, bool pilo
     const double samples = static_cast<double>(c.collisions) * pilot.time_per_collision /
                            tv06::needle_sample_interval(c);
     if (!(samples < kMaxSamples))
-      throw NotFinite{"the run's " + format_samples(samples) + " samples per ensemble overflow "
-                      "its 64-bit sample clock (more than 2^63)"};
+      throw NotFinite{"the run would take " + format_samples(samples) +
+                      " samples per ensemble, more than its 64-bit sample clock counts (2^63)"};
   }
   const double workers = std::min<double>(e.threads, std::max(N, 1.0));
   e.seconds = ns * 1e-9 / (workers > 1 ? workers * kParallelEfficiency : 1.0) + serial_ns * 1e-9;
@@ -618,18 +683,26 @@ RunEstimate estimate_run(const Config& config, unsigned threads) {
   } catch (const NotFinite& x) {
     why = x.why;
   }
+  auto closed_form_finite = [&](const Config& c) {
+    try {
+      return finite(estimate_unchecked(c, threads, false));
+    } catch (const NotFinite&) {
+      return false;
+    }
+  };
+  // Only a pilot (SWPM) failed: no single key is to blame.
+  if (closed_form_finite(config))
+    throw ConfigError("the run's cost cannot be estimated: " + why);
   // Which key: the first (most extreme) whose tame value alone gives a finite estimate, without
   // the pilots (SWPM, needle) that the search would otherwise repeat.
   for (const Suspect& s : suspects(config)) {
     Config tamed = config;
     s.tame(tamed);
-    try {
-      if (finite(estimate_unchecked(tamed, threads, false)))
-        throw ConfigError(cut(s.key + " = " + format_real(s.value)) +
-                          ": the run's cost cannot be estimated (" + why +
-                          "); choose a less extreme value");
-    } catch (const NotFinite&) {
-    }
+    if (closed_form_finite(tamed))
+      throw ConfigError(cut(s.key + " = " + format_real(s.value)) + ": " +
+                        (why == "overflow" ? "the run's cost cannot be estimated (overflow)"
+                                           : why) +
+                        "; choose a less extreme value");
   }
   throw ConfigError("the run's cost estimate is not finite (" + why +
                     "); check the config's extreme values");
@@ -639,10 +712,10 @@ std::string describe(const RunEstimate& e) {
   char buf[320];
   std::snprintf(buf, sizeof buf,
                 "%llu ensembles: %.3g collisions, %.3g fictitious, %.3g kicks; peak memory %s; "
-                "wall time about %s on %u thread%s",
+                "wall time %s %s on %u thread%s",
                 static_cast<unsigned long long>(e.ensembles), e.collisions, e.fictitious, e.kicks,
                 human_bytes(static_cast<double>(e.memory_bytes)).c_str(),
-                human_seconds(e.seconds).c_str(), e.threads, e.threads == 1 ? "" : "s");
+                e.lower_bound ? "more than" : "about", human_seconds(e.seconds).c_str(), e.threads, e.threads == 1 ? "" : "s");
   return buf;
 }
 

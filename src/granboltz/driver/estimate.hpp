@@ -28,6 +28,9 @@ struct RunEstimate {
   std::uint64_t memory_bytes = 0;
   unsigned threads = 1;
   double seconds = 0.0;  ///< wall time on `threads` threads of this machine
+  /// SWPM only: the pilot did not pass its first stop in its second, so `seconds` is a lower
+  /// bound and the events are those of constant weights.
+  bool lower_bound = false;
 };
 
 /// The estimate of a run of `config` on `threads` worker threads (0: all cores).
