@@ -1,7 +1,9 @@
 // granboltz: command line. Parses arguments, loads the config, dispatches; nothing else.
 #include <CLI/CLI.hpp>
 
+#include <cmath>
 #include <csignal>
+#include <cstdlib>
 #include <cstdio>
 #include <iostream>
 #include <new>
@@ -62,7 +64,17 @@ int main(int argc, char** argv) {
   run->add_flag("-q,--quiet", quiet, "no progress reports");
   run->add_option("--max-hours", max_hours,
                   "refuse the run if its estimated wall time exceeds this (default: no limit)")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Validator(
+          [](std::string& s) -> std::string {
+            // CLI11's PositiveNumber lets nan through (every comparison with it is false), and
+            // an inf limit is no limit: only a finite number > 0 means something here.
+            char* end = nullptr;
+            const double x = std::strtod(s.c_str(), &end);
+            if (end == s.c_str() || *end != '\0' || !std::isfinite(x) || !(x > 0))
+              return s + ": must be a finite number > 0";
+            return {};
+          },
+          "HOURS"));
 
   auto* estimate = app.add_subcommand(
       "estimate", "print the expected events, peak memory and wall time of a run");

@@ -3,6 +3,11 @@
 // schemes and majorants and for the TV06 intruder and needle.
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+
 #include "granboltz/driver/estimate.hpp"
 #include "granboltz/driver/run.hpp"
 #include "granboltz/io/hdf5_io.hpp"
@@ -101,6 +106,9 @@ void expect_estimate_matches(const char* text, const std::vector<std::string>& s
   std::string label;
   for (const auto& s : sets) label += s + " ";
   for (const auto& c : checks) {
+    if (std::getenv("GRANBOLTZ_PRINT_RATIOS") && c.counted > 0)
+      std::printf("estimate/counted %-10s %.4f  %s\n", c.name, c.estimated / c.counted,
+                  label.c_str());
     if (c.counted == 0) {
       EXPECT_EQ(c.estimated, 0.0) << label << c.name;
       continue;
@@ -123,6 +131,24 @@ TEST(Estimate, DsmcEventsAreWithinTenPercentOfCountedForEverySchemeAndMajorant) 
                                          "dsmc.gamma=1", "dsmc.beta=1", "dsmc.t_end=8"});
   expect_estimate_matches(kHardSpheres, {"dsmc.alpha=0.1", "dsmc.beta=30", "dsmc.gamma=16",
                                          "dsmc.t_end=0.1", "dsmc.observe_every=0.05"});
+}
+
+TEST(Estimate, SplittingWithManyStepsAndTheGaussianThermostatMatchCounted) {
+  // Many steps: n kicks per step, and U_max sees them all.
+  expect_estimate_matches(kHardSpheres, {"dsmc.scheme=euler", "dsmc.steps=4000"});
+  expect_estimate_matches(kHardSpheres, {"dsmc.scheme=strang", "dsmc.steps=2000"});
+  expect_estimate_matches(kHardSpheres, {"dsmc.scheme=euler", "dsmc.steps=2000",
+                                         "dsmc.majorant=pairwise"});
+  // The Gaussian thermostat holds T at T0: hard spheres collide at the rate of T0 all along (an
+  // estimate that let T cool as if unheated was 3.4 times low).
+  expect_estimate_matches(kHardSpheres, {"dsmc.thermostat=gaussian", "dsmc.beta=0"});
+  expect_estimate_matches(kHardSpheres, {"dsmc.thermostat=gaussian", "dsmc.beta=0",
+                                         "dsmc.majorant=pairwise"});
+  expect_estimate_matches(kHardSpheres, {"dsmc.thermostat=gaussian", "dsmc.beta=0",
+                                         "dsmc.scheme=strang", "dsmc.steps=64"});
+  // Free cooling (Haff's law): the majorant stays, the real collisions slow down.
+  expect_estimate_matches(kHardSpheres, {"dsmc.thermostat=none", "dsmc.beta=0", "dsmc.t_end=8",
+                                         "dsmc.observe_every=1"});
 }
 
 TEST(Estimate, WeightedParticleEventsFromThePilotMatchCounted) {
@@ -177,4 +203,93 @@ TEST(Estimate, CommandPrintsOneLineAndRunPrintsItUnlessQuiet) {
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.output.find("the run would take longer: 4 ensembles: "), std::string::npos);
   EXPECT_FALSE(std::filesystem::exists(dir.file("c.h5")));
+}
+
+namespace {
+
+// Seconds that estimate_run takes for `text` with `sets`.
+double estimate_seconds(const char* text, const std::vector<std::string>& sets) {
+  const granboltz::Config config = granboltz::parse_config(text, "c.yaml", sets);
+  const auto start = std::chrono::steady_clock::now();
+  const granboltz::RunEstimate e = granboltz::estimate_run(config, 1);
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_TRUE(std::isfinite(e.seconds) && e.seconds > 0) << e.seconds;
+  return s;
+}
+
+const char* kTiny = R"(model: dsmc
+seed: 1
+ensembles: 4
+dsmc:
+  particles: 64
+  alpha: 0.5
+  beta: 1
+  kernel: {lambda: 0, C: 0.0795774715459477}
+  t_end: 0.5
+  observe_every: 0.25
+)";
+
+}  // namespace
+
+TEST(Estimate, TakesUnderASecondWhateverTheLengthOfTheRun) {
+  // The estimate used to step the temperature ODE with h <= t_end/2000 and 0.02/relaxation:
+  // t_end = 1e8 took over 30 s, gamma = 1e12 did not end.
+  for (const char* lambda : {"dsmc.kernel.lambda=0", "dsmc.kernel.lambda=1", "dsmc.kernel.lambda=0.5"}) {
+    EXPECT_LT(estimate_seconds(kTiny, {lambda, "dsmc.t_end=1e8", "dsmc.observe_every=1e8"}), 2.0);
+    EXPECT_LT(estimate_seconds(kTiny, {lambda, "dsmc.gamma=1e12"}), 2.0);
+    EXPECT_LT(estimate_seconds(kTiny, {lambda, "dsmc.beta=0", "dsmc.t_end=1e15",
+                                       "dsmc.observe_every=1e15"}), 2.0);
+    EXPECT_LT(estimate_seconds(kTiny, {lambda, "dsmc.thermostat=gaussian", "dsmc.beta=0",
+                                       "dsmc.t_end=1e15", "dsmc.observe_every=1e15"}), 2.0);
+  }
+  EXPECT_LT(estimate_seconds(kTiny, {"dsmc.kernel.lambda=1", "dsmc.scheme=euler",
+                                     "dsmc.steps=1e15", "dsmc.majorant=pairwise"}), 2.0);
+  // TV06: the most collisions a config takes (2^53), and the DSMC intruder's record quantiles.
+  EXPECT_LT(estimate_seconds(kIntruder, {"intruder.collisions=9e15", "intruder.method=dsmc"}), 2.0);
+  EXPECT_LT(estimate_seconds(kNeedle, {"needle.collisions=9e15"}), 2.0);
+}
+
+TEST(Estimate, MaxHoursRefusesWhatTheEngineWouldTakeDaysFor) {
+  TempDir dir;
+  const std::string cfg = dir.write("c.yaml", kTiny), out = dir.file("out.h5");
+  auto refused = [&](const std::string& args, const std::string& expect) {
+    const auto r = run_granboltz("run " + cfg + " " + args + " -q -o " + out);
+    EXPECT_EQ(r.exit_code, 2) << args << ": " << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+    EXPECT_NE(r.output.find(expect), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("nan days"), std::string::npos) << r.output;
+    EXPECT_FALSE(std::filesystem::exists(out)) << args;
+  };
+  // 1e15 Euler steps of 64 kicks each: the steps used not to be costed (a few microseconds).
+  refused("--set dsmc.scheme=euler --set dsmc.steps=1e15 --max-hours 0.01",
+          "the run would take longer");
+  // 2^63 samples and more: the sample clock's arithmetic overflows and the run never ends.
+  const std::string icfg = dir.write("i.yaml", kIntruder), ncfg = dir.write("n.yaml", kNeedle);
+  for (const auto& [c, key] : {std::pair{icfg, "intruder.sample_every"},
+                               std::pair{ncfg, "needle.sample_every"}}) {
+    const auto r = run_granboltz("run " + c + " --set " + key + "=1e-20 --max-hours 0.01 -q -o " +
+                                 out);
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_EQ(r.output.rfind(std::string("granboltz: error: ") + key + " = 1e-20: ", 0), 0u)
+        << r.output;
+    EXPECT_FALSE(std::filesystem::exists(out));
+  }
+  // An estimate that overflows is refused with the key that made it, not "about -nan days".
+  refused("--set dsmc.beta=1.7976931348623157e308 --max-hours 1",
+          "dsmc.beta = 1.7976931348623157e+308: the run's cost cannot be estimated");
+  for (const char* bad : {"nan", "inf", "-1", "0", "1e400"})
+    refused(std::string("--max-hours ") + bad, std::string(bad) + ": must be a finite number > 0");
+  // A generous limit lets the run go.
+  const auto r = run_granboltz("run " + cfg + " --max-hours 1 -q -o " + out);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
+TEST(Estimate, HugeValuesPrintShort) {
+  granboltz::RunEstimate e;
+  e.ensembles = 1;
+  e.collisions = 1e300;
+  e.seconds = 1e300;
+  const std::string line = granboltz::describe(e);
+  EXPECT_LT(line.size(), 200u) << line;
+  EXPECT_NE(line.find("wall time about 1.2e+295 days"), std::string::npos) << line;
 }

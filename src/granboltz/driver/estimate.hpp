@@ -3,16 +3,20 @@
 //
 // Events come from the rates the engines use. DSMC (RW05 §4.2 effort model): real collisions at
 // the rate 2 pi gamma C (n-1) E|u|^lambda of a Maxwellian whose temperature follows the
-// moment equation dT/dt = 2 beta - (pi gamma C (1 - alpha^2)(n-1)/6n) E|u|^(2+lambda);
-// candidates at the majorant rate 2 pi gamma C (n-1) U_max^lambda (U_max from the extreme value
-// of the velocities the update sees) or 4 pi gamma C (n-1) E|v-V|^lambda (pairwise); kicks 2 per
-// candidate plus n per observation (no-splitting) or n per time step (splitting). TV06: the
-// collisions are the config's (warm-up included); the fictitious candidates from omega_max
-// against <phi(v1)> for the DSMC intruder, and for the needle's thinning (bound Phi(|v1|, omega)
-// against Phi(v_n, omega)) from a pilot ensemble of at most 20 000 collisions. Wall time: events
-// times a per-event cost measured with make bench. Weighted particles (SWPM): events and time
-// from a pilot, ensemble 0 of the run up to 10^5 candidates, extrapolated to t_end (its wall time
-// is measured, so this part of the estimate is of this machine as it runs).
+// moment equation dT/dt = 2 beta - (pi gamma C (1 - alpha^2)(n-1)/6n) E|u|^(2+lambda) (T = T0
+// under the Gaussian thermostat); candidates at the majorant rate 2 pi gamma C (n-1) U_max^lambda
+// (U_max from the extreme value of the velocities the update sees) or 4 pi gamma C (n-1)
+// E|v-V|^lambda (pairwise); kicks 2 per candidate plus n per observation (no-splitting) or n per
+// time step (splitting). The ODE is integrated until its fixed point, then with steps growing
+// with t: O(log t_end) steps, bounded. TV06: the collisions are the config's (warm-up
+// included); the fictitious candidates from omega_max against <phi(v1)> for the DSMC intruder,
+// and for the needle's thinning from a pilot ensemble of at most 20 000 collisions. Wall time:
+// events times a per-event cost measured with make bench, plus splitting steps, kicks,
+// observations and output rows at measured costs. Weighted particles (SWPM): events and time
+// from a pilot, ensemble 0 of the run up to 10^5 candidates in a child process given 1 s,
+// extrapolated to t_end (its wall time is measured, so this part of the estimate is of this
+// machine as it runs). An estimate that is not finite, or a TV06 run of more than 2^63
+// samples, throws ConfigError naming the key.
 #include <cstdint>
 #include <string>
 
@@ -28,9 +32,13 @@ struct RunEstimate {
   std::uint64_t memory_bytes = 0;
   unsigned threads = 1;
   double seconds = 0.0;  ///< wall time on `threads` threads of this machine
+  /// SWPM only: the pilot did not pass its first stop in its second, so `seconds` is a lower
+  /// bound and the events are those of constant weights.
+  bool lower_bound = false;
 };
 
-/// The estimate of a run of `config` on `threads` worker threads (0: all cores).
+/// The estimate of a run of `config` on `threads` worker threads (0: all cores). Throws
+/// ConfigError if it is not finite.
 RunEstimate estimate_run(const Config& config, unsigned threads);
 
 /// One line: "7 ensembles: 1.23e+07 collisions, 4.1e+06 fictitious, 2.5e+07 kicks; peak memory
