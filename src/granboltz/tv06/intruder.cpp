@@ -20,7 +20,7 @@ class IntruderAverages {
   IntruderAverages(const IntruderConfig& c, double dt) : hist_(c.histogram), dt_(dt) {}
 
   void start(double t) {
-    clock_.start(t, dt_);
+    clock_.start(t, dt_, "intruder.sample_every");
     t0_ = t;
   }
   /// The intruder moved at v1 until the event at t.

@@ -244,7 +244,7 @@ class NeedleAverages {
   NeedleAverages(const NeedleConfig& c, double dt)
       : vel_(c.velocity_histogram), omega_(c.omega_histogram), dt_(dt) {}
   void start(double t) {
-    clock_.start(t, dt_);
+    clock_.start(t, dt_, "needle.sample_every");
     t0_ = t;
   }
   void advance(double t, const NeedleState& s) {

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 namespace granboltz::tv06 {
 
@@ -9,6 +10,10 @@ std::uint64_t SampleClock::count_before(double t) {
   if (!(time(next_) < t)) return 0;
   // First guess from the arithmetic, then the exact comparison decides (rounding of (t-t0)/dt).
   const double guess = std::ceil((t - t0_) / dt_);
+  if (!(guess < 0x1p53))
+    throw std::runtime_error(std::string(key_) + ": more than 2^53 sample times in the run (" +
+                             "sample_every far below the time between collisions); choose a "
+                             "larger value");
   std::uint64_t end =
       guess > static_cast<double>(next_ + 1) ? static_cast<std::uint64_t>(guess) : next_ + 1;
   while (end > next_ + 1 && !(time(end - 1) < t)) --end;

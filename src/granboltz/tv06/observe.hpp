@@ -14,18 +14,22 @@ namespace granboltz::tv06 {
 /// `count_before(t)` followed by one weighted accumulation.
 class SampleClock {
  public:
-  void start(double t0, double dt) {
+  /// `key` names the config key of dt in the error thrown when the samples cannot be counted.
+  void start(double t0, double dt, const char* key = "sample_every") {
     t0_ = t0;
     dt_ = dt;
     next_ = 0;
+    key_ = key;
   }
-  /// The number of sample times in [previous t, t), which are then consumed.
+  /// The number of sample times in [previous t, t), which are then consumed. Throws
+  /// std::runtime_error beyond 2^53 sample times, where t0 + k dt no longer tells k from k + 1.
   std::uint64_t count_before(double t);
 
  private:
   double time(std::uint64_t k) const { return t0_ + static_cast<double>(k) * dt_; }
   double t0_ = 0.0, dt_ = 1.0;
   std::uint64_t next_ = 0;
+  const char* key_ = "sample_every";
 };
 
 /// Neumaier's compensated sum: a long time average loses no digits to rounding.
