@@ -63,8 +63,10 @@ class FiniteSizeFit:
         return self.T_inf + self.c / np.asarray(n, dtype=float)
 
     def __str__(self):
-        return (f"T_inf = {self.T_inf:.6g} ± {self.z * self.se_T_inf:.2g}, c = {self.c:.4g} ± "
-                f"{self.z * self.se_c:.2g} (± {self.z:g} se, {len(self.n)} sizes, chi2/dof = {self.chi2_dof:.2f})")
+        from .summary import format_pm
+
+        return (f"T_inf = {format_pm(self.T_inf, self.z * self.se_T_inf)}, c = {format_pm(self.c, self.z * self.se_c)}"
+                f" (± {self.z:g} se, {len(self.n)} sizes, chi2/dof = {self.chi2_dof:.2f})")
 
 
 def fit_finite_size(n, T=None, sigma=None, z=LAMBDA_P, observable="temperature"):
