@@ -1,14 +1,20 @@
 """docs/python.md: its worked example runs exactly as written (the config block saved under its
 name, the shell block with bash from a directory where build/granboltz is the built simulator,
-the Python blocks in one /usr/bin/python3 process), and the figure it promises is written."""
+the Python blocks in one /usr/bin/python3 process), and the figure it promises is written; every
+module of the package is in its Modules table, and every public function and class of the
+modules it documents in full is named on the page."""
 
+import importlib
+import inspect
 import os
+import pkgutil
 import re
 import subprocess
 import sys
 
 import pytest
 
+import granboltz
 from conftest import ROOT
 
 DOC = ROOT / "docs" / "python.md"
@@ -52,3 +58,29 @@ def test_the_worked_example_runs_as_written(tmp_path):
     assert abs(T - exact) <= ci  # the 99.9 % band holds the exact value at this seed
     png = tmp_path / "example.png"
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+# the modules whose every public function and class docs/python.md names (the others: their table row)
+DOCUMENTED_IN_FULL = ["granboltz.sonine", "granboltz.finite_size", "granboltz.summary", "granboltz.theory"]
+
+
+def public_names(module_name):
+    module = importlib.import_module(module_name)
+    return [name for name, obj in vars(module).items() if not name.startswith("_")
+            and getattr(obj, "__module__", None) == module_name and (inspect.isfunction(obj) or inspect.isclass(obj))]
+
+
+def test_every_module_of_the_package_is_in_the_modules_table():
+    text = DOC.read_text()
+    table = text[text.index("## Modules"):]
+    listed = set(re.findall(r"`(granboltz(?:\.\w+)+)`", table))
+    modules = {m.name for m in pkgutil.walk_packages(granboltz.__path__, "granboltz.")}
+    assert not modules - listed, f"not in the Modules table of docs/python.md: {sorted(modules - listed)}"
+    assert not listed - modules, f"listed but not modules: {sorted(listed - modules)}"
+
+
+@pytest.mark.parametrize("module_name", DOCUMENTED_IN_FULL)
+def test_every_public_function_of_the_fully_documented_modules_is_named(module_name):
+    text = DOC.read_text()
+    missing = [name for name in public_names(module_name) if not re.search(rf"`{name}[`(]", text)]
+    assert not missing, f"{module_name}: not named in docs/python.md: {missing}"

@@ -12,6 +12,7 @@ import math
 import numpy as np
 
 from .maxwell_hierarchy import hcs_a2, hcs_scaled_moments, steady_a2_formula
+from .sonine import cooling_rate, first_sonine_a2
 
 Z = 3.2  # lambda_p of every confidence half-width of the project (GRW05 §5.1)
 
@@ -20,13 +21,13 @@ Z = 3.2  # lambda_p of every confidence half-width of the project (GRW05 §5.1)
 def vne_hcs_a2(alpha):
     """First-Sonine a2 of the hard-sphere HCS (van Noije & Ernst 1998, d = 3):
     16(1 - alpha)(1 - 2 alpha^2)/(81 - 17 alpha + 30 alpha^2 (1 - alpha))."""
-    return 16 * (1 - alpha) * (1 - 2 * alpha**2) / (81 - 17 * alpha + 30 * alpha**2 * (1 - alpha))
+    return first_sonine_a2(alpha, "gaussian", 1)
 
 
 def vne_heated_a2(alpha):
     """First-Sonine a2 of the white-noise steady state of hard spheres (van Noije & Ernst 1998):
     16(1 - alpha)(1 - 2 alpha^2)/(241 - 177 alpha + 30 alpha^2 (1 - alpha))."""
-    return 16 * (1 - alpha) * (1 - 2 * alpha**2) / (241 - 177 * alpha + 30 * alpha**2 * (1 - alpha))
+    return first_sonine_a2(alpha, "white_noise", 1)
 
 
 def theory_a2(thermostat, kernel_lambda, alpha):
@@ -53,8 +54,8 @@ def haff_temperature(t, T0, alpha, gamma, C, kernel_lambda, n=None):
     t = np.asarray(t, dtype=float)
     T0 = T0 * (1 - 1 / n) if n else T0
     if kernel_lambda == 0:
-        return T0 * np.exp(-gamma * math.pi * C * (1 - alpha**2) * t)
-    K = 16 / 3 * math.sqrt(math.pi) * gamma * C * (1 - alpha**2) * (1 + 3 * vne_hcs_a2(alpha) / 16)
+        return T0 * np.exp(-cooling_rate(1.0, alpha, gamma, C, 0) * t)
+    K = cooling_rate(1.0, alpha, gamma, C, 1, a2=vne_hcs_a2(alpha))  # zeta = K sqrt(T)
     return T0 / (1 + t * K * math.sqrt(T0) / 2) ** 2
 
 

@@ -46,6 +46,11 @@ class Observable:
     variance: np.ndarray = None
     per_ensemble: np.ndarray = None
 
+    def __repr__(self):
+        from .summary import observable_summary
+
+        return observable_summary(self)
+
     @property
     def lower(self):
         """mean - ci: the lower end of the confidence band."""
@@ -119,6 +124,12 @@ class Run:
     def __getitem__(self, name):
         """run["temperature"]: the observable of that name."""
         return self.observables[name]
+
+    def __repr__(self):
+        """A few lines: model, sizes, shard, time grid, observables, steady (or final) values."""
+        from .summary import summarize
+
+        return summarize(self)
 
     @property
     def shard(self):
