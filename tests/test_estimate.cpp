@@ -208,7 +208,7 @@ TEST(Estimate, CommandPrintsOneLineAndRunPrintsItUnlessQuiet) {
 namespace {
 
 // Seconds that estimate_run takes for `text` with `sets`.
-double estimate_seconds(const char* text, const std::vector<std::string>& sets) {
+double estimate_seconds(const std::string& text, const std::vector<std::string>& sets) {
   const granboltz::Config config = granboltz::parse_config(text, "c.yaml", sets);
   const auto start = std::chrono::steady_clock::now();
   const granboltz::RunEstimate e = granboltz::estimate_run(config, 1);
@@ -217,17 +217,7 @@ double estimate_seconds(const char* text, const std::vector<std::string>& sets) 
   return s;
 }
 
-const char* kTiny = R"(model: dsmc
-seed: 1
-ensembles: 4
-dsmc:
-  particles: 64
-  alpha: 0.5
-  beta: 1
-  kernel: {lambda: 0, C: 0.0795774715459477}
-  t_end: 0.5
-  observe_every: 0.25
-)";
+const std::string kTiny = granboltz::test::base_config("dsmc");
 
 }  // namespace
 

@@ -163,6 +163,12 @@ inline void flip_byte(const std::string& file, std::uint64_t at) {
   io.write(&c, 1);
 }
 
+/// The tiny valid config of a model that the command-line cases break (tests/bad_inputs/base).
+inline std::string base_config(const std::string& model) {
+  std::ifstream in(std::string(GRANBOLTZ_SOURCE_DIR) + "/tests/bad_inputs/base/" + model + ".yaml");
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
 /// The bytes of a file.
 inline std::string read_all(const std::string& file) {
   std::ifstream in(file, std::ios::binary);
