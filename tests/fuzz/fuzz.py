@@ -33,6 +33,7 @@ HERE = pathlib.Path(__file__).resolve().parent
 ROOT = HERE.parents[1]
 BASE = ROOT / "tests" / "bad_inputs" / "base"
 CORPUS = HERE / "corpus"
+KNOWN = HERE / "known"
 TIMEOUT = 10.0  # seconds a case may take, wall clock
 MAX_HOURS = "0.0003"  # about 1 s: a config the estimate calls long is refused, not run
 ERROR_PREFIX = "granboltz: error: "
@@ -143,20 +144,19 @@ def base_config(name):
     return tree
 
 
-def leaves(tree, prefix=""):
-    """Every (dotted path, is_mapping) of a tree."""
+def leaves(tree, prefix=()):
+    """Every (path, is_mapping) of a tree; a path is a tuple of keys (a key may hold a dot)."""
     for k, v in tree.items():
-        path = f"{prefix}{k}"
+        path = prefix + (k,)
         yield path, isinstance(v, dict)
         if isinstance(v, dict):
-            yield from leaves(v, path + ".")
+            yield from leaves(v, path)
 
 
 def parent_of(tree, path):
-    parts = path.split(".")
-    for p in parts[:-1]:
+    for p in path[:-1]:
         tree = tree[p]
-    return tree, parts[-1]
+    return tree, path[-1]
 
 
 def neighbour(rng, value):
@@ -200,10 +200,10 @@ def mutate_tree(rng, tree):
         parent[key] = {}
     elif op == "move":  # a valid key put in another section
         value = parent.pop(key)
-        sections = [p for p, m in leaves(tree) if m] or [""]
-        dest = rng.choice(sections + [""])
-        (parent_of(tree, dest + ".x")[0] if dest else tree)[key] = value
-    return f"{op} {path}"
+        sections = [p for p, m in leaves(tree) if m]
+        dest = rng.choice(sections + [()])
+        (parent_of(tree, dest + ("x",))[0] if dest else tree)[key] = value
+    return f"{op} {'.'.join(path)}"
 
 
 def mutate_text(rng, text):
@@ -212,7 +212,7 @@ def mutate_text(rng, text):
     op = rng.choice(["flip", "truncate", "indent", "dup_line", "swap_lines", "anchor", "merge_key",
                      "insert_bytes", "tabs", "alias_bomb", "document", "bom"])
     if op == "flip" and text:
-        b = bytearray(text.encode("utf-8", "surrogatepass"))
+        b = bytearray(text.encode("utf-8", "surrogateescape"))
         for _ in range(rng.randint(1, 4)):
             i = rng.randrange(len(b))
             b[i] ^= 1 << rng.randrange(8)
@@ -243,10 +243,10 @@ def mutate_text(rng, text):
             lines[i] += " &S"
             lines.append("extra: {<<: *S}" if rng.random() < 0.5 else "<<: *S")
     elif op == "insert_bytes":
-        i = rng.randrange(len(text) + 1)
-        junk = rng.choice(["\x00", "\x01", "\x7f", "\xff", "\t", "\r", "\r\n", "\u2028", "\ufeff", ":", "- ",
+        i = 0 if rng.random() < 0.2 else rng.randrange(len(text) + 1)
+        junk = rng.choice([",", "? ", "\x00", "\x01", "\x7f", "\xff", "\t", "\r", "\r\n", "\u2028", "\ufeff", ":", "- ",
                            "{", "}", "[", "]", "&", "*", "!", "|", ">", "%YAML 1.2\n", "#", "'", "\"", "\\",
-                           "\ud800"])
+                           "\udcff"])  # the last: a byte 0xff that is no UTF-8
         return text[:i] + junk + text[i:], op
     elif op == "tabs":
         i = rng.randrange(len(lines))
@@ -284,7 +284,7 @@ def config_case(rng):
 def set_case(rng):
     name = rng.choice(sorted(VARIANTS))
     tree = base_config(name)
-    valid_paths = [p for p, _ in leaves(tree)]
+    valid_paths = [".".join(p) for p, _ in leaves(tree)]
     args = []
     for _ in range(rng.choice([1, 1, 1, 2, 2, 3, 4])):
         r = rng.random()
@@ -599,6 +599,9 @@ def stderr_problem(text, max_lines=3):
     lines = text.splitlines()
     if not lines:
         return "failed without a message"
+    starts = [line.startswith(ERROR_PREFIX) for line in lines]
+    if starts[0] and sum(starts) == 1 and len(lines) > 1:
+        return f"one message broken over {len(lines)} lines (a value's line breaks printed as they are)"
     if len(lines) > max_lines:
         return f"{len(lines)} lines on stderr (at most {max_lines})"
     for line in lines:
@@ -869,6 +872,7 @@ def main(argv=None):
     ap.add_argument("--findings", default=None, help="directory for the findings' recipes")
     ap.add_argument("--replay", nargs="*", help="run these recipes (JSON) and nothing else")
     ap.add_argument("--no-corpus", action="store_true", help="skip replaying tests/fuzz/corpus")
+    ap.add_argument("--strict", action="store_true", help="known findings (tests/fuzz/known) fail the run too")
     ap.add_argument("--sanitized", action="store_true", help="the binary has AddressSanitizer: no RLIMIT_AS")
     ap.add_argument("--show", type=int, nargs="*", help="print the recipes of these case numbers and exit")
     ap.add_argument("-v", "--verbose", action="store_true", help="print every command and its outcome")
@@ -914,6 +918,9 @@ def main(argv=None):
               + (f" --cases {args.cases}" if args.cases else "") + ")", flush=True)
         if args.cases is None and args.minutes is None:
             args.cases = 100
+        known = [(re.compile(r["match"]), path.name) for path in sorted(KNOWN.glob("*.json"))
+                 for r in [json.loads(path.read_text())] if "match" in r]
+        known_seen = {}
         seen = {}
         k = 0
         while True:
@@ -927,7 +934,13 @@ def main(argv=None):
             if args.verbose:
                 print(f"case {k}: {family} {case['command']} {case.get('note', '')[:100]} {case.get('args', '')}"[:300])
             problem = fz.run_case(case)
-            if problem:
+            match = next((name for rx, name in known
+                          if problem and rx.search(f"{family} {case['command']}: {problem}")), None)
+            if match and not args.strict:
+                known_seen[match] = known_seen.get(match, 0) + 1
+                if args.verbose:
+                    print(f"    known ({match}): {problem}")
+            elif problem:
                 signature = (family, case["command"], kind_of(problem))
                 seen.setdefault(signature, 0)
                 seen[signature] += 1
@@ -936,7 +949,7 @@ def main(argv=None):
                     small["problem"] = fz.run_case(small) or problem
                     small["found"] = {"seed": seed, "case": k}
                     path = findings_dir / f"{family}-{case['command']}-{len(seen):03d}.json"
-                    path.write_text(json.dumps(small, indent=1, ensure_ascii=False) + "\n")
+                    path.write_text(json.dumps(small, indent=1) + "\n")
                     if family == "file":
                         save_file_finding(fz, small, path.with_suffix(""))
                     print(f"fuzz: case {k} ({family} {case['command']}): FINDING: {problem}\n"
@@ -946,10 +959,14 @@ def main(argv=None):
             k += 1
         elapsed = time.monotonic() - started
         per = ", ".join(f"{f} {n}" for f, n in sorted(counts.items()))
-        print(f"fuzz: {k} cases in {elapsed:.0f} s ({per}); {len(failures)} failing, "
-              f"{len(seen)} distinct findings" + (f" in {findings_dir}" if seen else ""))
+        print(f"fuzz: seed {seed}: {k} cases in {elapsed:.0f} s ({per}); {len(failures)} failing, "
+              f"{len(seen)} distinct findings" + (f" in {findings_dir}" if seen else "")
+              + f"; {sum(known_seen.values())} known (tests/fuzz/known)"
+              + f"; replay: tests/fuzz/fuzz.py --seed {seed} --cases {k}")
         for sig, n in sorted(seen.items()):
             print(f"fuzz:   {n:4d} x {sig[0]} {sig[1]}: {sig[2]}")
+        for name, n in sorted(known_seen.items()):
+            print(f"fuzz:   {n:4d} x known {name}")
         return 1 if failures else 0
     finally:
         fz.worker.stop()
