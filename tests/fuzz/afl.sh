@@ -26,9 +26,10 @@ for f in tests/bad_inputs/base/*.yaml; do cp "$f" "$seeds/base_$(basename "$f")"
 { cat tests/bad_inputs/base/dsmc.yaml; printf '#set dsmc.scheme=strang\n#set dsmc.steps=2\n'; } \
   >"$seeds/base_dsmc_set.yaml"
 out="$BUILD_AFL/afl-out-$(date +%Y%m%d-%H%M%S)"
+seconds=$(awk -v m="$MINUTES" 'BEGIN { s = int(m * 60); print (s < 10 ? 10 : s) }')
 echo "fuzz: AFL++ on parse_config for $MINUTES min: $out"
 AFL_SKIP_CPUFREQ=1 AFL_I_DONT_CARE_ABOUT_MISSING_CRASHES=1 AFL_NO_UI=1 AFL_NO_AFFINITY=1 \
-  afl-fuzz -V $((${MINUTES%.*} * 60)) -i "$seeds" -o "$out" -x tests/fuzz/config.dict -t 2000 \
+  afl-fuzz -V "$seconds" -i "$seeds" -o "$out" -x tests/fuzz/config.dict -t 2000 \
   -m none -- "$harness" >"$out.log" 2>&1 || { tail -20 "$out.log"; exit 1; }
 
 stats="$out/default/fuzzer_stats"
