@@ -6,7 +6,7 @@ BUILD ?= build
 JOBS ?= 2
 PROFILE ?= config/quick.yaml
 
-.PHONY: all deps deps-browser build python test test-cpp test-python test-sanitize test-slurm reproduce check-tables paper bench bench-counters bench-peer sanitize clean
+.PHONY: all deps deps-browser build python test test-cpp test-python test-sanitize test-slurm fuzz reproduce check-tables paper bench bench-counters bench-peer sanitize clean
 
 all: build
 
@@ -66,6 +66,18 @@ test-sanitize: deps
 ## machine cannot host SLURM)
 test-slurm: deps build
 	bash scripts/test-slurm.sh
+
+## make fuzz MINUTES=10: the mutation fuzzer (tests/fuzz/fuzz.py, a seed from the clock, printed
+## to replay with --seed) for MINUTES, then AFL++ on the config entry point for MINUTES
+## (tests/fuzz/afl.sh, build-afl; installs AFL++ on demand). Findings: tests/fuzz/README.md
+MINUTES ?= 10
+FUZZ_FINDINGS ?= fuzz-findings
+fuzz: build
+	@bash scripts/install-deps.sh --with-fuzz
+	@status=0; \
+	$(PYTHON) tests/fuzz/fuzz.py --binary $(BUILD)/granboltz --minutes $(MINUTES) --findings $(FUZZ_FINDINGS) || status=1; \
+	JOBS=$(JOBS) bash tests/fuzz/afl.sh $(MINUTES) || status=1; \
+	exit $$status
 
 ## make bench: whole-run benchmarks (median of REPEAT runs, with the random-number floor) as a
 ## table and bench/results.csv, then the kernel benchmarks (Google Benchmark), then the tail depth

@@ -14,10 +14,13 @@ PACKAGES=(
   python3-jsonschema python3-yaml python3-sympy python3-mpmath python3-setuptools python3-pip
 )
 BROWSER_PACKAGES=(chromium)
+# --with-fuzz: AFL++ (and the clang it instruments with), for `make fuzz` only, never CI.
+FUZZ_PACKAGES=(afl++ clang)
 for arg in "$@"; do
   case "$arg" in
     --with-browser) PACKAGES+=("${BROWSER_PACKAGES[@]}") ;;
-    *) echo "install-deps: unknown option '$arg' (allowed: --with-browser)" >&2; exit 2 ;;
+    --with-fuzz) PACKAGES+=("${FUZZ_PACKAGES[@]}") ;;
+    *) echo "install-deps: unknown option '$arg' (allowed: --with-browser, --with-fuzz)" >&2; exit 2 ;;
   esac
 done
 

@@ -396,6 +396,21 @@ TEST(HostileMerge, AnInputWithADamagedDerivedDatasetIsNamedAndVerifyFindsIt) {
   EXPECT_NE(v.output.find("a.h5: ok"), std::string::npos) << v.output;
 }
 
+// Found by the mutation fuzzer (tests/fuzz): verify read only datasets, so a damaged header of
+// /provenance, which holds attributes and no dataset, passed as ok while read_run refused the file.
+TEST(HostileMerge, VerifyReadsTheAttributesOfGroupsWithoutDatasets) {
+  TempDir dir;
+  const std::string cfg = dir.write("d.yaml", kTiny);
+  const std::string a = dir.file("a.h5");
+  ASSERT_EQ(run_granboltz("run " + cfg + " -q -o " + a).exit_code, 0);
+  const std::string bytes = read_all(a);
+  const std::size_t at = bytes.find("started_utc");  // an attribute name of /provenance
+  ASSERT_NE(at, std::string::npos);
+  flip_byte(a, at + 2);
+  const auto v = run_bounded("verify " + a);
+  expect_refusal(v, "a.h5: damaged: /provenance: its attributes are unreadable");
+}
+
 TEST(HostileMerge, ACheckpointIsNotAMergeInput) {
   TempDir dir;
   const std::string cfg = dir.write("long.yaml", kLong), out = dir.file("out.h5");

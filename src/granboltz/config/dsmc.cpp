@@ -113,6 +113,9 @@ DsmcConfig read_dsmc(const Section& s) {
             static_cast<double>(c.histogram.shells), "must satisfy 1 <= shells <= 10^6");
     c.histogram.radius = h.real("radius");
     h.check(c.histogram.radius > 0, "radius", c.histogram.radius, "must be > 0");
+    // The edges are radius * k / shells: beyond about 1e302 the product overflows to infinity.
+    h.check(c.histogram.radius <= 1e300, "radius", c.histogram.radius,
+            "must satisfy 0 < radius <= 1e300");
     h.finish({"shells", "radius"});
   }
 

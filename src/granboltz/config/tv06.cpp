@@ -21,6 +21,8 @@ VelocityHistogramSpec read_histogram(const Section& s, const std::string& key) {
            "must satisfy 1 <= bins <= 10^7");
   h.range = hs.real("range");
   hs.check(h.range > 0, "range", h.range, "must be > 0");
+  // The bins span 2 range: beyond about 9e307 that overflows and the edges become infinite.
+  hs.check(h.range <= 1e300, "range", h.range, "must satisfy 0 < range <= 1e300");
   hs.finish({"bins", "range"});
   return h;
 }
