@@ -20,6 +20,7 @@
 #include "granboltz/io/hdf5_io.hpp"
 #include "granboltz/dsmc/observables.hpp"
 #include "granboltz/io/output.hpp"
+#include "granboltz/io/verify.hpp"
 #include "granboltz/dsmc/particles.hpp"
 #include "granboltz/tv06/run.hpp"
 #include "granboltz/version.hpp"
@@ -80,6 +81,10 @@ bool load_checkpoint(const std::string& path, const Config& config, Record& reco
   const std::string fix = "; delete it to start afresh, or write to another output";
   if (!S_ISREG(st.st_mode))
     throw ConfigError(path + ": the checkpoint is not a regular file" + fix);
+  // Read through once in a child process first: a damaged file can crash the HDF5 library.
+  const FileCheck check = check_file(path);
+  if (!check.problems.empty())
+    throw std::runtime_error(path + ": " + check.problems.front() + fix);
   H5Reader in(path);
   const std::string text = config.to_yaml(true);
   auto attr = [&](const char* name) {

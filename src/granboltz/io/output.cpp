@@ -25,6 +25,8 @@ void write_output(H5Writer& out, const Config& config, const Record& record,
   for (const auto& [key, value] : provenance) out.attr("/provenance", key, value);
   if (config.model == Model::kDsmc)  // the majorant used, also when `auto` chose it
     out.attr("/provenance", "majorant", std::string(majorant_name(config.dsmc.majorant)));
+  // Last, over every dataset: what `granboltz verify` and merge check beyond Fletcher32.
+  out.attr("/", "digest", out.digest());
 }
 
 Config config_of_file(const H5Reader& in) {
