@@ -420,3 +420,39 @@ TEST(HostileMerge, ACheckpointIsNotAMergeInput) {
   const auto v = run_bounded("verify " + ckpt);
   EXPECT_EQ(v.exit_code, 0) << v.output;
 }
+
+TEST(HostileMerge, ZeroWordsTurnedToOnesWhichFletcher32CannotSeeAreCaughtByTheDigest) {
+  // Fletcher32 sums 16-bit words modulo 65535, where 0x0000 and 0xFFFF are the same number.
+  TempDir dir;
+  const std::string cfg = dir.write("d.yaml", kTiny);
+  const std::string a = dir.file("a.h5"), b = dir.file("b.h5"), m = dir.file("m.h5");
+  for (int i = 0; i < 2; ++i)
+    ASSERT_EQ(run_granboltz("run " + cfg + " -q --set dsmc.histogram.shells=400" +
+                            " --set shard.count=2 --set shard.index=" + std::to_string(i) +
+                            " -o " + (i ? b : a))
+                  .exit_code,
+              0);
+  // The outer shells of the histogram's counts are zero: 8 zero bytes each, stored as written
+  // (fewer than 4096 elements are not deflated).
+  const std::string dataset = "/accumulators/histogram";
+  const auto at = granboltz::test::chunk_offset(b, dataset);
+  std::string bytes = read_all(b);
+  std::size_t run = std::string::npos;
+  for (std::size_t k = at; k + 16 <= bytes.size() && k < at + 8 * 1000; k += 8)
+    if (bytes.compare(k, 16, std::string(16, '\0')) == 0) {
+      run = k;
+      break;
+    }
+  ASSERT_NE(run, std::string::npos) << "no zero counts to turn into ones";
+  {
+    std::fstream io(b, std::ios::in | std::ios::out | std::ios::binary);
+    io.seekp(static_cast<std::streamoff>(run));
+    io.write(std::string(16, '\xff').data(), 16);
+  }
+  EXPECT_NO_THROW(H5Reader(b).read_bytes(dataset)) << "Fletcher32 saw it: the test needs no digest";
+  const auto v = run_bounded("verify " + b);
+  EXPECT_EQ(v.exit_code, 1) << v.output;
+  EXPECT_NE(v.output.find("do not match its digest"), std::string::npos) << v.output;
+  expect_refusal(run_bounded("merge " + a + " " + b + " -o " + m), "do not match its digest");
+  EXPECT_FALSE(fs::exists(m));
+}
