@@ -8,6 +8,8 @@
 #include <mutex>
 #include <stdexcept>
 
+#include <gsl/gsl_cdf.h>
+
 #include "granboltz/dsmc/ensemble.hpp"
 #include "granboltz/dsmc/observables.hpp"
 #include "granboltz/dsmc/weighted.hpp"
@@ -37,6 +39,20 @@ std::vector<double> dsmc_times(const DsmcConfig& d) {
   return t;
 }
 
+std::uint64_t steady_rows(const DsmcConfig& d) {
+  if (!d.steady) return 0;
+  std::uint64_t rows = 0;
+  for (double t : dsmc_times(d)) rows += t > d.steady_from + 1e-9 * d.observe_every;
+  return rows;
+}
+
+std::uint64_t steady_block_levels(const DsmcConfig& d) {
+  const std::uint64_t R = steady_rows(d);
+  std::uint64_t L = 0;
+  while (L < 63 && (R >> L) >= 2) ++L;
+  return L;
+}
+
 Record dsmc_layout(const Config& config) {
   const DsmcConfig& d = config.dsmc;
   const std::uint64_t rows = d.observations() + 1;
@@ -55,6 +71,13 @@ Record dsmc_layout(const Config& config) {
   // The steady-state histogram: per ensemble the time average of f_k over the steady rows, so
   // that its confidence interval comes from independent ensembles, not from correlated rows.
   if (d.steady && d.histogram.shells) r.declare_moments("histogram_steady", d.histogram.shells + 1);
+  if (d.steady && !d.steady_ci_independent) {
+    // Consecutive rows of an ensemble are correlated: per ensemble its time average of every
+    // scalar and speed moment, and for each blocking level the blocked variance of that average.
+    const std::uint64_t K = kNumScalars + P;
+    r.declare_moments("steady_ensemble", K);
+    if (const std::uint64_t L = steady_block_levels(d)) r.declare_moments("steady_blocks", L * K);
+  }
   if (d.weights.swpm) {
     // SWPM: the histogram's weight per shell (f_k itself), beside the particle numbers above.
     if (d.histogram.shells) r.declare_moments("histogram_weight", rows * (d.histogram.shells + 1));
@@ -146,6 +169,45 @@ InProgress load_in_progress(const DsmcConfig& d, const H5Reader& in, std::uint64
     std::copy(moments.begin(), moments.end(), w.moments.begin());
   }
   return w;
+}
+
+/// One ensemble's contribution to steady_ensemble and steady_blocks. Computed from its rows alone
+/// in a fixed order, so the same ensemble always adds the same doubles to the exact sums.
+void add_steady_blocks(const DsmcConfig& d, const std::vector<double>& times, const InProgress& w,
+                       Record& record) {
+  const double steady_after = d.steady_from + 1e-9 * d.observe_every;
+  const auto P = static_cast<std::uint64_t>(d.moments);
+  const std::uint64_t K = kNumScalars + P, L = steady_block_levels(d);
+  std::uint64_t first = 0;
+  while (first < times.size() && !(times[first] > steady_after)) ++first;
+  const std::uint64_t R = times.size() - first;
+  auto& ens = record.moments("steady_ensemble");
+  auto* blocks = L ? &record.moments("steady_blocks") : nullptr;
+  std::vector<double> x(R), b;
+  for (std::uint64_t k = 0; k < K; ++k) {
+    for (std::uint64_t i = 0; i < R; ++i)
+      x[i] = k < kNumScalars ? w.obs[first + i][k] : w.moments[(first + i) * P + (k - kNumScalars)];
+    double sum = 0.0;
+    for (double v : x) sum += v;
+    ens[k].add(sum / static_cast<double>(R));
+    for (std::uint64_t l = 0; l < L; ++l) {
+      const std::uint64_t B = std::uint64_t{1} << l, n = R / B;
+      b.assign(n, 0.0);
+      double bsum = 0.0;
+      for (std::uint64_t j = 0; j < n; ++j) {
+        for (std::uint64_t i = 0; i < B; ++i) b[j] += x[j * B + i];
+        b[j] /= static_cast<double>(B);
+        bsum += b[j];
+      }
+      const double bmean = bsum / static_cast<double>(n);
+      double ss = 0.0;
+      for (double v : b) ss += (v - bmean) * (v - bmean);
+      // The variance of this ensemble's average over its R rows, if blocks of B rows were
+      // independent: var(block mean) B / R (the n blocks may leave out the last R - n B rows).
+      (*blocks)[l * K + k].add(ss / static_cast<double>(n - 1) * static_cast<double>(B) /
+                               static_cast<double>(R));
+    }
+  }
 }
 
 }  // namespace
@@ -288,6 +350,7 @@ void run_dsmc(const Config& config, const DriverOptions& options, Record& record
         ++record.total("steady_samples");
       }
     }
+    if (d.steady && !d.steady_ci_independent) add_steady_blocks(d, times, w, record);
     if (K1) record.add_counts("histogram", w.hist);
     if (K1 && d.steady) {
       std::vector<double> avg(K1, 0.0);
@@ -352,6 +415,43 @@ void write_observable(H5Writer& out, const std::string& prefix, const Observable
   out.attr(g, "description", std::string(o.description));
 }
 
+/// The /steady group of one observable: mean, ci, variance as write_observable, plus sigma and
+/// the estimator's attributes (the largest tau_int over the components, the smallest N_eff).
+void write_steady_observable(H5Writer& out, const Config& config, const Record& record,
+                             const ObservableInfo& o, std::uint64_t base) {
+  const int size = observable_size(o);
+  std::vector<double> mean, ci, var, sigma;
+  double tau = 0.0, neff = 0.0;
+  std::uint64_t block_rows = 0;
+  const char* estimator = "independent";
+  for (int k = 0; k < size; ++k) {
+    const SteadyStats s = steady_stats(config, record, base + static_cast<std::uint64_t>(o.offset + k));
+    mean.push_back(s.mean);
+    ci.push_back(s.ci);
+    var.push_back(s.variance);
+    sigma.push_back(s.sigma);
+    if (k == 0 || s.tau_int > tau || std::isnan(s.tau_int)) tau = s.tau_int;
+    if (k == 0 || s.effective_samples < neff || std::isnan(s.effective_samples))
+      neff = s.effective_samples;
+    block_rows = std::max(block_rows, s.block_rows);
+    estimator = s.estimator;
+  }
+  Dims dims = shape_of(o, 1);
+  dims.erase(dims.begin());
+  const std::string g = "/steady/" + std::string(o.name);
+  out.write(g + "/mean", mean, dims);
+  out.write(g + "/ci", ci, dims);
+  out.write(g + "/variance", var, dims);
+  out.attr(g, "description", std::string(o.description));
+  out.write(g + "/sigma", sigma, dims);
+  out.attr(g, "estimator", std::string(estimator));
+  out.attr(g, "tau_int", tau);
+  out.attr(g, "effective_samples", neff);
+  out.attr(g, "samples", record.total("steady_samples"));
+  out.attr(g, "from", config.dsmc.steady_from);
+  if (std::string(estimator) == "blocking") out.attr(g, "block_rows", block_rows);
+}
+
 void write_moments(H5Writer& out, const std::string& prefix, const std::vector<Moments2>& sums,
                    std::uint64_t rows, std::uint64_t samples, bool scalar_rows) {
   for (const auto& o : kObservables)
@@ -374,6 +474,76 @@ void write_speed_moments(H5Writer& out, const std::string& prefix,
 }
 
 }  // namespace
+
+SteadyStats steady_stats(const Config& config, const Record& record, std::uint64_t k) {
+  const DsmcConfig& d = config.dsmc;
+  const auto P = static_cast<std::uint64_t>(d.moments);
+  const std::uint64_t S = record.total("steady_samples"), N = record.ensembles();
+  SteadyStats r;
+  const MeanCi all = k < kNumScalars ? record.moments("steady")[k].stats(S)
+                                     : record.moments("moment_steady")[k - kNumScalars].stats(S);
+  r.mean = all.mean;
+  r.variance = all.variance;
+  r.effective_samples = static_cast<double>(S);
+  r.dof = INFINITY;
+  if (d.steady_ci_independent || S == 0) {  // every (ensemble, t_m) sample counted independent
+    r.sigma = S ? std::sqrt(all.variance / static_cast<double>(S)) : 0.0;
+    r.ci = all.ci;
+    return r;
+  }
+  const std::uint64_t K = kNumScalars + P, L = steady_block_levels(d), R = steady_rows(d);
+  const double Nd = static_cast<double>(N);
+  double var_mean = NAN;
+  if (N >= kSteadyMinEnsembles || L == 0) {
+    // Independent ensembles by construction: the spread of their time averages is honest.
+    r.estimator = "ensembles";
+    const Moments2& e = record.moments("steady_ensemble")[k];
+    if (N >= 2) {
+      const double m = e.sum.value() / Nd;
+      const double s2 = std::max(0.0, (e.sum_sq.value() - Nd * m * m) / (Nd - 1));
+      var_mean = s2 / Nd;
+    }
+    r.dof = Nd - 1;
+  } else {
+    // Pooled blocking (Flyvbjerg & Petersen 1989): the blocked variance grows with the block
+    // length until the blocks are independent. The level: the smallest l with
+    // B^3 > 2 R (sigma_l^2 / sigma_0^2)^2, B = 2^l rows (Lee, Needs & Drummond 2011), else the
+    // longest blocks.
+    r.estimator = "blocking";
+    const auto& blocks = record.moments("steady_blocks");
+    const double v0 = blocks[k].sum.value() / (Nd * Nd);
+    std::uint64_t chosen = L - 1;
+    for (std::uint64_t l = 0; l < L; ++l) {
+      const double vl = blocks[l * K + k].sum.value() / (Nd * Nd);
+      const double B = std::ldexp(1.0, static_cast<int>(l));
+      const double ratio = v0 > 0 ? vl / v0 : 1.0;
+      if (B * B * B > 2.0 * static_cast<double>(R) * ratio * ratio) {
+        chosen = l;
+        break;
+      }
+    }
+    var_mean = blocks[chosen * K + k].sum.value() / (Nd * Nd);
+    r.block_rows = std::uint64_t{1} << chosen;
+    r.dof = Nd * static_cast<double>(R / r.block_rows - 1);
+  }
+  r.sigma = std::sqrt(var_mean);
+  // tau_int = sigma^2 S / (2 variance), N_eff = S / (2 tau_int) = variance / sigma^2.
+  if (all.variance > 0 && var_mean > 0) {
+    r.tau_int = var_mean * static_cast<double>(S) / (2.0 * all.variance);
+    r.effective_samples = all.variance / var_mean;
+  } else if (!(var_mean >= 0)) {
+    r.tau_int = r.effective_samples = NAN;
+  }
+  // lambda_p = 3.2 for many degrees of freedom; below 30 the Student-t quantile of the same
+  // two-sided level, since sigma is then itself uncertain.
+  double factor = kLambdaP;
+  if (r.dof >= 1 && r.dof < 30) {
+    const double tail = 0.5 * std::erfc(kLambdaP / std::sqrt(2.0));
+    factor = gsl_cdf_tdist_Qinv(tail, r.dof);
+  }
+  r.ci = factor * r.sigma;
+  return r;
+}
 
 void present_dsmc(H5Writer& out, const Config& config, const Record& record) {
   const DsmcConfig& d = config.dsmc;
@@ -435,9 +605,20 @@ void present_dsmc(H5Writer& out, const Config& config, const Record& record) {
   }
   if (d.steady) {
     const std::uint64_t samples = record.total("steady_samples");
-    write_moments(out, "/steady", record.moments("steady"), 1, samples, true);
-    if (P)
-      write_speed_moments(out, "/steady", record.moments("moment_steady"), P, 1, samples, true);
+    for (const auto& o : kObservables) write_steady_observable(out, config, record, o, 0);
+    for (std::uint64_t k = 0; k < P; ++k) {
+      const int p = static_cast<int>(k) + 1;
+      const std::string name = moment_name(p);
+      const std::string description = "<|v - V|^" + std::to_string(2 * p) +
+                                      ">: the central speed moment of order " +
+                                      std::to_string(2 * p) + " (dsmc.moments)";
+      const ObservableInfo o{name.c_str(), static_cast<int>(k), 0, description.c_str()};
+      write_steady_observable(out, config, record, o, kNumScalars);
+    }
+    out.attr("/steady", "estimator",
+             std::string(d.steady_ci_independent ? "independent"
+                         : record.ensembles() >= kSteadyMinEnsembles || !steady_block_levels(d)
+                             ? "ensembles" : "blocking"));
     out.attr("/steady", "samples", samples);
     out.attr("/steady", "from", d.steady_from);
   }
