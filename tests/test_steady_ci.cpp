@@ -186,3 +186,72 @@ TEST(SteadyCi, ConfigWithoutSteadyFromIsUnchangedAndSteadyCiNeedsIt) {
   const Config ind = parse_config(once.to_yaml(true), "again.yaml");
   EXPECT_TRUE(ind.dsmc.steady_ci_independent);
 }
+
+TEST(SonineCoefficients, A2AndA3FollowTheMomentsAndTheirIntervalsCoverReplicas) {
+  // The delta method over ensembles: the spread of replicas' a2, a3 (last row and steady) over
+  // their mean reported sigma.
+  test::TempDir dir;
+  const std::string cfg = dir.write("c.yaml", kHeated);
+  std::vector<double> a2, a3, s2, s3, sa2, sa3, ss2, ss3;
+  for (int seed = 1; seed <= 40; ++seed) {
+    const std::string out = dir.file("r" + std::to_string(seed) + ".h5");
+    ASSERT_EQ(test::run_granboltz("run " + cfg + " -q --set dsmc.moments=3 --set seed=" +
+                                  std::to_string(seed) + " -o " + out)
+                  .exit_code,
+              0);
+    H5Reader f(out);
+    const auto m2 = f.read_double("/moment_2/mean"), m4 = f.read_double("/moment_4/mean"),
+               m6 = f.read_double("/moment_6/mean");
+    const auto A2 = f.read_double("/a2/mean"), A3 = f.read_double("/a3/mean");
+    ASSERT_EQ(A2.size(), m2.size());
+    for (std::size_t m = 0; m < m2.size(); m += 37) {
+      const double x2 = 0.6 * m4[m] / (m2[m] * m2[m]) - 1;
+      EXPECT_NEAR(A2[m], x2, 1e-12);
+      EXPECT_NEAR(A3[m], 1 + 3 * x2 - 9.0 / 35.0 * m6[m] / (m2[m] * m2[m] * m2[m]), 1e-12);
+    }
+    a2.push_back(A2.back());
+    a3.push_back(A3.back());
+    s2.push_back(f.read_double("/a2/ci").back() / kLambdaP);
+    s3.push_back(f.read_double("/a3/ci").back() / kLambdaP);
+    sa2.push_back(f.read_double("/steady/a2/mean")[0]);
+    sa3.push_back(f.read_double("/steady/a3/mean")[0]);
+    ss2.push_back(f.read_double("/steady/a2/sigma")[0]);
+    ss3.push_back(f.read_double("/steady/a3/sigma")[0]);
+    EXPECT_EQ(f.attr_string("/steady/a2", "estimator"), "ensembles");
+  }
+  const double r[] = {spread_over_sigma(a2, s2), spread_over_sigma(a3, s3),
+                      spread_over_sigma(sa2, ss2), spread_over_sigma(sa3, ss3)};
+  std::printf("a2, a3 spread / sigma: last row %.2f %.2f, steady %.2f %.2f\n", r[0], r[1], r[2],
+              r[3]);
+  for (double x : r) {
+    EXPECT_GE(x, 0.75);
+    EXPECT_LE(x, 1.33);
+  }
+  // White-noise heated hard spheres at alpha = 0.7: a2 ~ 1e-3 (van Noije & Ernst 1998), plus a
+  // finite-n bias of order 1/n; far below 0.05 either way.
+  double mean = 0;
+  for (double x : sa2) mean += x / static_cast<double>(sa2.size());
+  EXPECT_LT(std::fabs(mean), 0.05);
+}
+
+TEST(SonineCoefficients, AbsentWithoutEnoughMomentsOrWithIndependentSteadyIntervals) {
+  test::TempDir dir;
+  const std::string cfg = dir.write("c.yaml", kHeated);
+  const std::string one = dir.file("one.h5"), two = dir.file("two.h5"), ind = dir.file("i.h5");
+  ASSERT_EQ(test::run_granboltz("run " + cfg + " -q --set ensembles=2 --set dsmc.moments=1 -o " + one)
+                .exit_code,
+            0);
+  ASSERT_EQ(test::run_granboltz("run " + cfg + " -q --set ensembles=2 -o " + two).exit_code, 0);
+  ASSERT_EQ(test::run_granboltz("run " + cfg +
+                                " -q --set ensembles=2 --set dsmc.steady_ci=independent -o " + ind)
+                .exit_code,
+            0);
+  H5Reader a(one), b(two), i(ind);
+  EXPECT_FALSE(a.exists("/a2/mean"));
+  EXPECT_FALSE(a.exists("/accumulators/moment_cross"));
+  EXPECT_TRUE(b.exists("/a2/mean"));
+  EXPECT_FALSE(b.exists("/a3/mean"));  // moments: 2 gives M2 and M4 only
+  EXPECT_TRUE(b.exists("/steady/a2/ci"));
+  EXPECT_TRUE(i.exists("/a2/mean"));
+  EXPECT_FALSE(i.exists("/steady/a2/mean"));
+}

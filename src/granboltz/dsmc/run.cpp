@@ -53,6 +53,18 @@ std::uint64_t steady_block_levels(const DsmcConfig& d) {
   return L;
 }
 
+namespace {
+std::uint64_t cross_pairs(std::uint64_t P) { return P >= 3 ? 3 : P == 2 ? 1 : 0; }
+/// The products of the pairs of cross_pairs from M2, M4 (and M6) of one sample.
+void add_cross(Moments2* out, const double* M, std::uint64_t P) {
+  if (P < 2) return;
+  out[0].sum.add(M[0] * M[1]);
+  if (P < 3) return;
+  out[1].sum.add(M[0] * M[2]);
+  out[2].sum.add(M[1] * M[2]);
+}
+}  // namespace
+
 Record dsmc_layout(const Config& config) {
   const DsmcConfig& d = config.dsmc;
   const std::uint64_t rows = d.observations() + 1;
@@ -77,6 +89,12 @@ Record dsmc_layout(const Config& config) {
     const std::uint64_t K = kNumScalars + P;
     r.declare_moments("steady_ensemble", K);
     if (const std::uint64_t L = steady_block_levels(d)) r.declare_moments("steady_blocks", L * K);
+  }
+  // a2 and a3 from M2, M4, M6: their intervals by the delta method need the ensembles' cross
+  // sums (only `sum` is used). Pairs (M2, M4), then with P >= 3 (M2, M6), (M4, M6).
+  if (const std::uint64_t C = cross_pairs(P)) {
+    r.declare_moments("moment_cross", rows * C);
+    if (d.steady && !d.steady_ci_independent) r.declare_moments("steady_moment_cross", C);
   }
   if (d.weights.swpm) {
     // SWPM: the histogram's weight per shell (f_k itself), beside the particle numbers above.
@@ -183,13 +201,14 @@ void add_steady_blocks(const DsmcConfig& d, const std::vector<double>& times, co
   const std::uint64_t R = times.size() - first;
   auto& ens = record.moments("steady_ensemble");
   auto* blocks = L ? &record.moments("steady_blocks") : nullptr;
-  std::vector<double> x(R), b;
+  std::vector<double> x(R), b, avg(K);
   for (std::uint64_t k = 0; k < K; ++k) {
     for (std::uint64_t i = 0; i < R; ++i)
       x[i] = k < kNumScalars ? w.obs[first + i][k] : w.moments[(first + i) * P + (k - kNumScalars)];
     double sum = 0.0;
     for (double v : x) sum += v;
-    ens[k].add(sum / static_cast<double>(R));
+    avg[k] = sum / static_cast<double>(R);
+    ens[k].add(avg[k]);
     for (std::uint64_t l = 0; l < L; ++l) {
       const std::uint64_t B = std::uint64_t{1} << l, n = R / B;
       b.assign(n, 0.0);
@@ -208,6 +227,7 @@ void add_steady_blocks(const DsmcConfig& d, const std::vector<double>& times, co
                                static_cast<double>(R));
     }
   }
+  if (cross_pairs(P)) add_cross(record.moments("steady_moment_cross").data(), &avg[kNumScalars], P);
 }
 
 }  // namespace
@@ -339,6 +359,8 @@ void run_dsmc(const Config& config, const DriverOptions& options, Record& record
                 " exceeds 1e150 (its square would overflow); ask for fewer moments");
         auto& mseries = record.moments("moment_series");
         for (std::uint64_t k = 0; k < P; ++k) mseries[m * P + k].add(moments[k]);
+        if (const std::uint64_t C = cross_pairs(P))
+          add_cross(record.moments("moment_cross").data() + m * C, moments, P);
       }
       if (d.steady && times[m] > steady_after) {
         auto& steady = record.moments("steady");
@@ -475,6 +497,109 @@ void write_speed_moments(H5Writer& out, const std::string& prefix,
 
 }  // namespace
 
+namespace {
+
+/// a2 = d/(d+2) M4/M2^2 - 1 and a3 = 1 + 3 a2 - d^2/((d+2)(d+4)) M6/M2^3 (d = 3) at the ensemble
+/// means of M2, M4, M6, and their variances by the delta method, g^T Cov g / N with the
+/// covariance of the ensembles' (M2, M4, M6): a ratio of means, not a mean of ratios, so that
+/// neither is biased by the noise of one ensemble's M2.
+struct Sonine {
+  double a2 = 0.0, a3 = 0.0, var_a2 = 0.0, var_a3 = 0.0;
+};
+Sonine sonine(const Moments2* M, const Moments2* cross, std::uint64_t P, std::uint64_t N,
+              bool sample_covariance) {
+  Sonine r;
+  const double n = static_cast<double>(N);
+  const int q = P >= 3 ? 3 : 2;
+  double mu[3] = {0, 0, 0}, cov[3][3] = {};
+  for (int i = 0; i < q; ++i) mu[i] = M[i].sum.value() / n;
+  auto second = [&](int i, int j) {
+    if (i == j) return M[i].sum_sq.value();
+    const int pair = i + j - 1;  // (0,1) -> 0, (0,2) -> 1, (1,2) -> 2
+    return cross[pair].sum.value();
+  };
+  // Population covariance for the time series (as their variance and ci), sample covariance for
+  // the steady averages (as the ensembles estimator of /steady).
+  const double denom = sample_covariance ? n - 1 : n;
+  for (int i = 0; i < q; ++i)
+    for (int j = 0; j < q; ++j) cov[i][j] = (second(i, j) - n * mu[i] * mu[j]) / denom;
+  auto variance = [&](const double* g) {
+    double v = 0.0;
+    for (int i = 0; i < q; ++i)
+      for (int j = 0; j < q; ++j) v += g[i] * cov[i][j] * g[j];
+    return std::max(0.0, v / n);
+  };
+  const double c2 = 3.0 / 5.0, c3 = 9.0 / 35.0, m2 = mu[0], m4 = mu[1], m6 = mu[2];
+  r.a2 = c2 * m4 / (m2 * m2) - 1.0;
+  const double g2[3] = {-2.0 * c2 * m4 / (m2 * m2 * m2), c2 / (m2 * m2), 0.0};
+  r.var_a2 = variance(g2);
+  if (q == 3) {
+    r.a3 = 1.0 + 3.0 * r.a2 - c3 * m6 / (m2 * m2 * m2);
+    const double g3[3] = {3.0 * g2[0] + 3.0 * c3 * m6 / (m2 * m2 * m2 * m2), 3.0 * g2[1],
+                          -c3 / (m2 * m2 * m2)};
+    r.var_a3 = variance(g3);
+  }
+  return r;
+}
+
+/// The factor of the confidence half-width for a sigma with `dof` degrees of freedom: GRW05's
+/// lambda_p = 3.2 from 30 on, below the Student-t quantile of the same two-sided level.
+double confidence_factor(double dof) {
+  if (!(dof >= 1 && dof < 30)) return kLambdaP;
+  return gsl_cdf_tdist_Qinv(0.5 * std::erfc(kLambdaP / std::sqrt(2.0)), dof);
+}
+
+const char* const kA2Description =
+    "a2 = 3/5 M4/M2^2 - 1, the second Sonine coefficient from the ensemble means of the speed "
+    "moments (d = 3); ci by the delta method over the ensembles";
+const char* const kA3Description =
+    "a3 = 1 + 3 a2 - 9/35 M6/M2^3, the third Sonine coefficient from the ensemble means of the "
+    "speed moments (d = 3); ci by the delta method over the ensembles";
+
+void write_sonine(H5Writer& out, const Config& config, const Record& record) {
+  const DsmcConfig& d = config.dsmc;
+  const auto P = static_cast<std::uint64_t>(d.moments);
+  const std::uint64_t C = cross_pairs(P), N = record.ensembles();
+  if (!C || N == 0) return;
+  const std::uint64_t rows = d.observations() + 1;
+  const auto& series = record.moments("moment_series");
+  const auto& cross = record.moments("moment_cross");
+  std::vector<double> a2(rows), a2ci(rows), a3(rows), a3ci(rows);
+  for (std::uint64_t m = 0; m < rows; ++m) {
+    const Sonine s = sonine(&series[m * P], &cross[m * C], P, N, false);
+    a2[m] = s.a2;
+    a2ci[m] = kLambdaP * std::sqrt(s.var_a2);
+    a3[m] = s.a3;
+    a3ci[m] = kLambdaP * std::sqrt(s.var_a3);
+  }
+  out.write("/a2/mean", a2, {rows});
+  out.write("/a2/ci", a2ci, {rows});
+  out.attr("/a2", "description", std::string(kA2Description));
+  if (P >= 3) {
+    out.write("/a3/mean", a3, {rows});
+    out.write("/a3/ci", a3ci, {rows});
+    out.attr("/a3", "description", std::string(kA3Description));
+  }
+  if (!d.steady || d.steady_ci_independent) return;
+  // Steady: each ensemble's time averages of M2, M4, M6 are one independent sample.
+  const Sonine s = sonine(&record.moments("steady_ensemble")[kNumScalars],
+                          record.moments("steady_moment_cross").data(), P, N, true);
+  const double factor = confidence_factor(static_cast<double>(N) - 1);
+  for (int which = 2; which <= (P >= 3 ? 3 : 2); ++which) {
+    const std::string g = "/steady/a" + std::to_string(which);
+    const double sigma = N >= 2 ? std::sqrt(which == 2 ? s.var_a2 : s.var_a3) : NAN;
+    out.write(g + "/mean", std::vector<double>{which == 2 ? s.a2 : s.a3}, {});
+    out.write(g + "/sigma", std::vector<double>{sigma}, {});
+    out.write(g + "/ci", std::vector<double>{factor * sigma}, {});
+    out.attr(g, "description", std::string(which == 2 ? kA2Description : kA3Description));
+    out.attr(g, "estimator", std::string("ensembles"));
+    out.attr(g, "samples", record.total("steady_samples"));
+    out.attr(g, "from", d.steady_from);
+  }
+}
+
+}  // namespace
+
 SteadyStats steady_stats(const Config& config, const Record& record, std::uint64_t k) {
   const DsmcConfig& d = config.dsmc;
   const auto P = static_cast<std::uint64_t>(d.moments);
@@ -536,12 +661,7 @@ SteadyStats steady_stats(const Config& config, const Record& record, std::uint64
   }
   // lambda_p = 3.2 for many degrees of freedom; below 30 the Student-t quantile of the same
   // two-sided level, since sigma is then itself uncertain.
-  double factor = kLambdaP;
-  if (r.dof >= 1 && r.dof < 30) {
-    const double tail = 0.5 * std::erfc(kLambdaP / std::sqrt(2.0));
-    factor = gsl_cdf_tdist_Qinv(tail, r.dof);
-  }
-  r.ci = factor * r.sigma;
+  r.ci = confidence_factor(r.dof) * r.sigma;
   return r;
 }
 
@@ -622,6 +742,7 @@ void present_dsmc(H5Writer& out, const Config& config, const Record& record) {
     out.attr("/steady", "samples", samples);
     out.attr("/steady", "from", d.steady_from);
   }
+  write_sonine(out, config, record);
 }
 
 }  // namespace granboltz
