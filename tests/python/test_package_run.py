@@ -59,6 +59,21 @@ def test_read_run_gives_time_and_every_observable_with_its_ci(dsmc_file):
         run.temprature
 
 
+def test_read_run_gives_a2_a3_and_the_steady_sigma(tmp_path):
+    config = {**TINY, "ensembles": 12, "dsmc": {**TINY["dsmc"], "moments": 3}}
+    run = read_run(simulate(tmp_path, config, "sonine"))
+    m2, m4, m6 = (run[f"moment_{k}"].mean for k in (2, 4, 6))
+    a2 = 0.6 * m4 / m2**2 - 1
+    np.testing.assert_allclose(run.a2.mean, a2, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(run.a3.mean, 1 + 3 * a2 - 9 / 35 * m6 / m2**3, rtol=0, atol=1e-12)
+    assert run.a2.ci.shape == run.time.shape and np.all(run.a3.ci >= 0) and run.a2.variance is None
+    assert np.ndim(run.steady["a2"].mean) == 0 and run.steady["a3"].ci > 0
+    with h5py.File(run.path, "r") as f:
+        assert bytes(f["steady/temperature"].attrs["estimator"]) == b"ensembles"
+        assert bytes(f["steady/a2"].attrs["estimator"]) == b"ensembles"
+        assert f["steady/temperature/sigma"].shape == ()
+
+
 def test_package_exposes_read_run_without_importing_it_eagerly():
     assert granboltz.read_run is read_run
     assert granboltz.RunReadError is RunReadError

@@ -130,6 +130,9 @@ def test_rw05_run_configs_carry_scheme_steps_and_steady_keys(tmp_path):
     d = run["timestep"]["dsmc"]
     assert (d["steps"], d["t_end"], d["observe_every"]) == (8, 8.0, 1.0) and "steady_from" not in d
     assert run["replica"]["dsmc"]["scheme"] == "nosplit" and run["replica"]["dsmc"]["steady_from"] == 8.0
+    # The papers' intervals: every steady run asks for them explicitly (the default is batch).
+    assert all(r["dsmc"].get("steady_ci") == "independent" for r in run.values() if "steady_from" in r["dsmc"])
+    assert run["steady"]["dsmc"]["steady_ci"] == "independent" and "steady_ci" not in run["timestep"]["dsmc"]
     assert run["replica"]["seed"] != yaml.safe_load(snakemake_config_text(tmp_path))["seed"]
     d = run["tail"]["dsmc"]
     assert d["histogram"] == {"shells": 128, "radius": 16.0} and d["kernel"]["lambda"] == 1 and d["t_end"] == 0.25

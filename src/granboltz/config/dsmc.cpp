@@ -141,6 +141,10 @@ DsmcConfig read_dsmc(const Section& s) {
     c.steady_from = s.real("steady_from");
     s.check(c.steady_from >= 0 && c.steady_from < c.t_end, "steady_from", c.steady_from,
             "must satisfy 0 <= steady_from < t_end");
+    c.steady_ci_independent =
+        s.choice("steady_ci", {"batch", "independent"}, "batch") == "independent";
+  } else if (s.has("steady_ci")) {
+    throw ConfigError(s.name("steady_ci") + ": needs dsmc.steady_from (the steady-state window)");
   }
   if (s.has("weights")) {
     const Section w = s.sub("weights");
@@ -193,7 +197,7 @@ DsmcConfig read_dsmc(const Section& s) {
   s.finish({"particles", "scheme", "steps", "alpha", "beta", "thermostat", "gamma", "kernel",
             "initial", "t_end", "observe_every", "histogram", "majorant", "majorant_update",
             "moments",
-            "steady_from", "weights"});
+            "steady_from", "steady_ci", "weights"});
   return c;
 }
 
@@ -225,7 +229,11 @@ void emit_dsmc(YAML::Emitter& out, const DsmcConfig& c) {
   out << YAML::Key << "majorant_update" << YAML::Value
       << (c.majorant_update == MajorantUpdate::kStrict ? "strict" : "paper");
   out << YAML::Key << "moments" << YAML::Value << c.moments;
-  if (c.steady) out << YAML::Key << "steady_from" << YAML::Value << format_real(c.steady_from);
+  if (c.steady) {
+    out << YAML::Key << "steady_from" << YAML::Value << format_real(c.steady_from);
+    out << YAML::Key << "steady_ci" << YAML::Value
+        << (c.steady_ci_independent ? "independent" : "batch");
+  }
   if (c.weights.swpm) {  // absent for constant weights: their provenance stays as before
     out << YAML::Key << "weights" << YAML::Value << YAML::Flow << YAML::BeginMap
         << YAML::Key << "method" << YAML::Value << "swpm"

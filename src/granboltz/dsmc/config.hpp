@@ -74,6 +74,10 @@ struct DsmcConfig {
   int moments = 4;          ///< P: observe <|v - V|^{2p}> for p = 1..P (0 <= P <= kMaxMoments)
   bool steady = false;      ///< time averages over the observations with t > steady_from
   double steady_from = 0.0;
+  /// dsmc.steady_ci: batch (the default) gives /steady intervals from independent ensembles or
+  /// within-ensemble blocking; independent treats every (ensemble, t_m) sample as independent,
+  /// which is what the reproduction profiles ask for (their outputs keep their bits).
+  bool steady_ci_independent = false;
   WeightsSpec weights;      ///< dsmc.weights (absent: constant weights)
 
   std::uint64_t observations() const;  ///< M: observation times are t_m, m = 0..M

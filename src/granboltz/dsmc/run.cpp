@@ -8,6 +8,8 @@
 #include <mutex>
 #include <stdexcept>
 
+#include <gsl/gsl_cdf.h>
+
 #include "granboltz/dsmc/ensemble.hpp"
 #include "granboltz/dsmc/observables.hpp"
 #include "granboltz/dsmc/weighted.hpp"
@@ -37,6 +39,32 @@ std::vector<double> dsmc_times(const DsmcConfig& d) {
   return t;
 }
 
+std::uint64_t steady_rows(const DsmcConfig& d) {
+  if (!d.steady) return 0;
+  std::uint64_t rows = 0;
+  for (double t : dsmc_times(d)) rows += t > d.steady_from + 1e-9 * d.observe_every;
+  return rows;
+}
+
+std::uint64_t steady_block_levels(const DsmcConfig& d) {
+  const std::uint64_t R = steady_rows(d);
+  std::uint64_t L = 0;
+  while (L < 63 && (R >> L) >= 2) ++L;
+  return L;
+}
+
+namespace {
+std::uint64_t cross_pairs(std::uint64_t P) { return P >= 3 ? 3 : P == 2 ? 1 : 0; }
+/// The products of the pairs of cross_pairs from M2, M4 (and M6) of one sample.
+void add_cross(Moments2* out, const double* M, std::uint64_t P) {
+  if (P < 2) return;
+  out[0].sum.add(M[0] * M[1]);
+  if (P < 3) return;
+  out[1].sum.add(M[0] * M[2]);
+  out[2].sum.add(M[1] * M[2]);
+}
+}  // namespace
+
 Record dsmc_layout(const Config& config) {
   const DsmcConfig& d = config.dsmc;
   const std::uint64_t rows = d.observations() + 1;
@@ -55,6 +83,19 @@ Record dsmc_layout(const Config& config) {
   // The steady-state histogram: per ensemble the time average of f_k over the steady rows, so
   // that its confidence interval comes from independent ensembles, not from correlated rows.
   if (d.steady && d.histogram.shells) r.declare_moments("histogram_steady", d.histogram.shells + 1);
+  if (d.steady && !d.steady_ci_independent) {
+    // Consecutive rows of an ensemble are correlated: per ensemble its time average of every
+    // scalar and speed moment, and for each blocking level the blocked variance of that average.
+    const std::uint64_t K = kNumScalars + P;
+    r.declare_moments("steady_ensemble", K);
+    if (const std::uint64_t L = steady_block_levels(d)) r.declare_moments("steady_blocks", L * K);
+  }
+  // a2 and a3 from M2, M4, M6: their intervals by the delta method need the ensembles' cross
+  // sums (only `sum` is used). Pairs (M2, M4), then with P >= 3 (M2, M6), (M4, M6).
+  if (const std::uint64_t C = cross_pairs(P)) {
+    r.declare_moments("moment_cross", rows * C);
+    if (d.steady && !d.steady_ci_independent) r.declare_moments("steady_moment_cross", C);
+  }
   if (d.weights.swpm) {
     // SWPM: the histogram's weight per shell (f_k itself), beside the particle numbers above.
     if (d.histogram.shells) r.declare_moments("histogram_weight", rows * (d.histogram.shells + 1));
@@ -146,6 +187,47 @@ InProgress load_in_progress(const DsmcConfig& d, const H5Reader& in, std::uint64
     std::copy(moments.begin(), moments.end(), w.moments.begin());
   }
   return w;
+}
+
+/// One ensemble's contribution to steady_ensemble and steady_blocks. Computed from its rows alone
+/// in a fixed order, so the same ensemble always adds the same doubles to the exact sums.
+void add_steady_blocks(const DsmcConfig& d, const std::vector<double>& times, const InProgress& w,
+                       Record& record) {
+  const double steady_after = d.steady_from + 1e-9 * d.observe_every;
+  const auto P = static_cast<std::uint64_t>(d.moments);
+  const std::uint64_t K = kNumScalars + P, L = steady_block_levels(d);
+  std::uint64_t first = 0;
+  while (first < times.size() && !(times[first] > steady_after)) ++first;
+  const std::uint64_t R = times.size() - first;
+  auto& ens = record.moments("steady_ensemble");
+  auto* blocks = L ? &record.moments("steady_blocks") : nullptr;
+  std::vector<double> x(R), b, avg(K);
+  for (std::uint64_t k = 0; k < K; ++k) {
+    for (std::uint64_t i = 0; i < R; ++i)
+      x[i] = k < kNumScalars ? w.obs[first + i][k] : w.moments[(first + i) * P + (k - kNumScalars)];
+    double sum = 0.0;
+    for (double v : x) sum += v;
+    avg[k] = sum / static_cast<double>(R);
+    ens[k].add(avg[k]);
+    for (std::uint64_t l = 0; l < L; ++l) {
+      const std::uint64_t B = std::uint64_t{1} << l, n = R / B;
+      b.assign(n, 0.0);
+      double bsum = 0.0;
+      for (std::uint64_t j = 0; j < n; ++j) {
+        for (std::uint64_t i = 0; i < B; ++i) b[j] += x[j * B + i];
+        b[j] /= static_cast<double>(B);
+        bsum += b[j];
+      }
+      const double bmean = bsum / static_cast<double>(n);
+      double ss = 0.0;
+      for (double v : b) ss += (v - bmean) * (v - bmean);
+      // The variance of this ensemble's average over its R rows, if blocks of B rows were
+      // independent: var(block mean) B / R (the n blocks may leave out the last R - n B rows).
+      (*blocks)[l * K + k].add(ss / static_cast<double>(n - 1) * static_cast<double>(B) /
+                               static_cast<double>(R));
+    }
+  }
+  if (cross_pairs(P)) add_cross(record.moments("steady_moment_cross").data(), &avg[kNumScalars], P);
 }
 
 }  // namespace
@@ -277,6 +359,8 @@ void run_dsmc(const Config& config, const DriverOptions& options, Record& record
                 " exceeds 1e150 (its square would overflow); ask for fewer moments");
         auto& mseries = record.moments("moment_series");
         for (std::uint64_t k = 0; k < P; ++k) mseries[m * P + k].add(moments[k]);
+        if (const std::uint64_t C = cross_pairs(P))
+          add_cross(record.moments("moment_cross").data() + m * C, moments, P);
       }
       if (d.steady && times[m] > steady_after) {
         auto& steady = record.moments("steady");
@@ -288,6 +372,7 @@ void run_dsmc(const Config& config, const DriverOptions& options, Record& record
         ++record.total("steady_samples");
       }
     }
+    if (d.steady && !d.steady_ci_independent) add_steady_blocks(d, times, w, record);
     if (K1) record.add_counts("histogram", w.hist);
     if (K1 && d.steady) {
       std::vector<double> avg(K1, 0.0);
@@ -352,6 +437,43 @@ void write_observable(H5Writer& out, const std::string& prefix, const Observable
   out.attr(g, "description", std::string(o.description));
 }
 
+/// The /steady group of one observable: mean, ci, variance as write_observable, plus sigma and
+/// the estimator's attributes (the largest tau_int over the components, the smallest N_eff).
+void write_steady_observable(H5Writer& out, const Config& config, const Record& record,
+                             const ObservableInfo& o, std::uint64_t base) {
+  const int size = observable_size(o);
+  std::vector<double> mean, ci, var, sigma;
+  double tau = 0.0, neff = 0.0;
+  std::uint64_t block_rows = 0;
+  const char* estimator = "independent";
+  for (int k = 0; k < size; ++k) {
+    const SteadyStats s = steady_stats(config, record, base + static_cast<std::uint64_t>(o.offset + k));
+    mean.push_back(s.mean);
+    ci.push_back(s.ci);
+    var.push_back(s.variance);
+    sigma.push_back(s.sigma);
+    if (k == 0 || s.tau_int > tau || std::isnan(s.tau_int)) tau = s.tau_int;
+    if (k == 0 || s.effective_samples < neff || std::isnan(s.effective_samples))
+      neff = s.effective_samples;
+    block_rows = std::max(block_rows, s.block_rows);
+    estimator = s.estimator;
+  }
+  Dims dims = shape_of(o, 1);
+  dims.erase(dims.begin());
+  const std::string g = "/steady/" + std::string(o.name);
+  out.write(g + "/mean", mean, dims);
+  out.write(g + "/ci", ci, dims);
+  out.write(g + "/variance", var, dims);
+  out.attr(g, "description", std::string(o.description));
+  out.write(g + "/sigma", sigma, dims);
+  out.attr(g, "estimator", std::string(estimator));
+  out.attr(g, "tau_int", tau);
+  out.attr(g, "effective_samples", neff);
+  out.attr(g, "samples", record.total("steady_samples"));
+  out.attr(g, "from", config.dsmc.steady_from);
+  if (std::string(estimator) == "blocking") out.attr(g, "block_rows", block_rows);
+}
+
 void write_moments(H5Writer& out, const std::string& prefix, const std::vector<Moments2>& sums,
                    std::uint64_t rows, std::uint64_t samples, bool scalar_rows) {
   for (const auto& o : kObservables)
@@ -374,6 +496,174 @@ void write_speed_moments(H5Writer& out, const std::string& prefix,
 }
 
 }  // namespace
+
+namespace {
+
+/// a2 = d/(d+2) M4/M2^2 - 1 and a3 = 1 + 3 a2 - d^2/((d+2)(d+4)) M6/M2^3 (d = 3) at the ensemble
+/// means of M2, M4, M6, and their variances by the delta method, g^T Cov g / N with the
+/// covariance of the ensembles' (M2, M4, M6): a ratio of means, not a mean of ratios, so that
+/// neither is biased by the noise of one ensemble's M2.
+struct Sonine {
+  double a2 = 0.0, a3 = 0.0, var_a2 = 0.0, var_a3 = 0.0;
+};
+Sonine sonine(const Moments2* M, const Moments2* cross, std::uint64_t P, std::uint64_t N,
+              bool sample_covariance) {
+  Sonine r;
+  const double n = static_cast<double>(N);
+  const int q = P >= 3 ? 3 : 2;
+  double mu[3] = {0, 0, 0}, cov[3][3] = {};
+  for (int i = 0; i < q; ++i) mu[i] = M[i].sum.value() / n;
+  auto second = [&](int i, int j) {
+    if (i == j) return M[i].sum_sq.value();
+    const int pair = i + j - 1;  // (0,1) -> 0, (0,2) -> 1, (1,2) -> 2
+    return cross[pair].sum.value();
+  };
+  // Population covariance for the time series (as their variance and ci), sample covariance for
+  // the steady averages (as the ensembles estimator of /steady).
+  const double denom = sample_covariance ? n - 1 : n;
+  for (int i = 0; i < q; ++i)
+    for (int j = 0; j < q; ++j) cov[i][j] = (second(i, j) - n * mu[i] * mu[j]) / denom;
+  auto variance = [&](const double* g) {
+    double v = 0.0;
+    for (int i = 0; i < q; ++i)
+      for (int j = 0; j < q; ++j) v += g[i] * cov[i][j] * g[j];
+    return std::max(0.0, v / n);
+  };
+  const double c2 = 3.0 / 5.0, c3 = 9.0 / 35.0, m2 = mu[0], m4 = mu[1], m6 = mu[2];
+  r.a2 = c2 * m4 / (m2 * m2) - 1.0;
+  const double g2[3] = {-2.0 * c2 * m4 / (m2 * m2 * m2), c2 / (m2 * m2), 0.0};
+  r.var_a2 = variance(g2);
+  if (q == 3) {
+    r.a3 = 1.0 + 3.0 * r.a2 - c3 * m6 / (m2 * m2 * m2);
+    const double g3[3] = {3.0 * g2[0] + 3.0 * c3 * m6 / (m2 * m2 * m2 * m2), 3.0 * g2[1],
+                          -c3 / (m2 * m2 * m2)};
+    r.var_a3 = variance(g3);
+  }
+  return r;
+}
+
+/// The factor of the confidence half-width for a sigma with `dof` degrees of freedom: GRW05's
+/// lambda_p = 3.2 from 30 on, below the Student-t quantile of the same two-sided level.
+double confidence_factor(double dof) {
+  if (!(dof >= 1 && dof < 30)) return kLambdaP;
+  return gsl_cdf_tdist_Qinv(0.5 * std::erfc(kLambdaP / std::sqrt(2.0)), dof);
+}
+
+const char* const kA2Description =
+    "a2 = 3/5 M4/M2^2 - 1, the second Sonine coefficient from the ensemble means of the speed "
+    "moments (d = 3); ci by the delta method over the ensembles";
+const char* const kA3Description =
+    "a3 = 1 + 3 a2 - 9/35 M6/M2^3, the third Sonine coefficient from the ensemble means of the "
+    "speed moments (d = 3); ci by the delta method over the ensembles";
+
+void write_sonine(H5Writer& out, const Config& config, const Record& record) {
+  const DsmcConfig& d = config.dsmc;
+  const auto P = static_cast<std::uint64_t>(d.moments);
+  const std::uint64_t C = cross_pairs(P), N = record.ensembles();
+  if (!C || N == 0) return;
+  const std::uint64_t rows = d.observations() + 1;
+  const auto& series = record.moments("moment_series");
+  const auto& cross = record.moments("moment_cross");
+  std::vector<double> a2(rows), a2ci(rows), a3(rows), a3ci(rows);
+  for (std::uint64_t m = 0; m < rows; ++m) {
+    const Sonine s = sonine(&series[m * P], &cross[m * C], P, N, false);
+    a2[m] = s.a2;
+    a2ci[m] = kLambdaP * std::sqrt(s.var_a2);
+    a3[m] = s.a3;
+    a3ci[m] = kLambdaP * std::sqrt(s.var_a3);
+  }
+  out.write("/a2/mean", a2, {rows});
+  out.write("/a2/ci", a2ci, {rows});
+  out.attr("/a2", "description", std::string(kA2Description));
+  if (P >= 3) {
+    out.write("/a3/mean", a3, {rows});
+    out.write("/a3/ci", a3ci, {rows});
+    out.attr("/a3", "description", std::string(kA3Description));
+  }
+  if (!d.steady || d.steady_ci_independent) return;
+  // Steady: each ensemble's time averages of M2, M4, M6 are one independent sample.
+  const Sonine s = sonine(&record.moments("steady_ensemble")[kNumScalars],
+                          record.moments("steady_moment_cross").data(), P, N, true);
+  const double factor = confidence_factor(static_cast<double>(N) - 1);
+  for (int which = 2; which <= (P >= 3 ? 3 : 2); ++which) {
+    const std::string g = "/steady/a" + std::to_string(which);
+    const double sigma = N >= 2 ? std::sqrt(which == 2 ? s.var_a2 : s.var_a3) : NAN;
+    out.write(g + "/mean", std::vector<double>{which == 2 ? s.a2 : s.a3}, {});
+    out.write(g + "/sigma", std::vector<double>{sigma}, {});
+    out.write(g + "/ci", std::vector<double>{factor * sigma}, {});
+    out.attr(g, "description", std::string(which == 2 ? kA2Description : kA3Description));
+    out.attr(g, "estimator", std::string("ensembles"));
+    out.attr(g, "samples", record.total("steady_samples"));
+    out.attr(g, "from", d.steady_from);
+  }
+}
+
+}  // namespace
+
+SteadyStats steady_stats(const Config& config, const Record& record, std::uint64_t k) {
+  const DsmcConfig& d = config.dsmc;
+  const auto P = static_cast<std::uint64_t>(d.moments);
+  const std::uint64_t S = record.total("steady_samples"), N = record.ensembles();
+  SteadyStats r;
+  const MeanCi all = k < kNumScalars ? record.moments("steady")[k].stats(S)
+                                     : record.moments("moment_steady")[k - kNumScalars].stats(S);
+  r.mean = all.mean;
+  r.variance = all.variance;
+  r.effective_samples = static_cast<double>(S);
+  r.dof = INFINITY;
+  if (d.steady_ci_independent || S == 0) {  // every (ensemble, t_m) sample counted independent
+    r.sigma = S ? std::sqrt(all.variance / static_cast<double>(S)) : 0.0;
+    r.ci = all.ci;
+    return r;
+  }
+  const std::uint64_t K = kNumScalars + P, L = steady_block_levels(d), R = steady_rows(d);
+  const double Nd = static_cast<double>(N);
+  double var_mean = NAN;
+  if (N >= kSteadyMinEnsembles || L == 0) {
+    // Independent ensembles by construction: the spread of their time averages is honest.
+    r.estimator = "ensembles";
+    const Moments2& e = record.moments("steady_ensemble")[k];
+    if (N >= 2) {
+      const double m = e.sum.value() / Nd;
+      const double s2 = std::max(0.0, (e.sum_sq.value() - Nd * m * m) / (Nd - 1));
+      var_mean = s2 / Nd;
+    }
+    r.dof = Nd - 1;
+  } else {
+    // Pooled blocking (Flyvbjerg & Petersen 1989): the blocked variance grows with the block
+    // length until the blocks are independent. The level: the smallest l with
+    // B^3 > 2 R (sigma_l^2 / sigma_0^2)^2, B = 2^l rows (Lee, Needs & Drummond 2011), else the
+    // longest blocks.
+    r.estimator = "blocking";
+    const auto& blocks = record.moments("steady_blocks");
+    const double v0 = blocks[k].sum.value() / (Nd * Nd);
+    std::uint64_t chosen = L - 1;
+    for (std::uint64_t l = 0; l < L; ++l) {
+      const double vl = blocks[l * K + k].sum.value() / (Nd * Nd);
+      const double B = std::ldexp(1.0, static_cast<int>(l));
+      const double ratio = v0 > 0 ? vl / v0 : 1.0;
+      if (B * B * B > 2.0 * static_cast<double>(R) * ratio * ratio) {
+        chosen = l;
+        break;
+      }
+    }
+    var_mean = blocks[chosen * K + k].sum.value() / (Nd * Nd);
+    r.block_rows = std::uint64_t{1} << chosen;
+    r.dof = Nd * static_cast<double>(R / r.block_rows - 1);
+  }
+  r.sigma = std::sqrt(var_mean);
+  // tau_int = sigma^2 S / (2 variance), N_eff = S / (2 tau_int) = variance / sigma^2.
+  if (all.variance > 0 && var_mean > 0) {
+    r.tau_int = var_mean * static_cast<double>(S) / (2.0 * all.variance);
+    r.effective_samples = all.variance / var_mean;
+  } else if (!(var_mean >= 0)) {
+    r.tau_int = r.effective_samples = NAN;
+  }
+  // lambda_p = 3.2 for many degrees of freedom; below 30 the Student-t quantile of the same
+  // two-sided level, since sigma is then itself uncertain.
+  r.ci = confidence_factor(r.dof) * r.sigma;
+  return r;
+}
 
 void present_dsmc(H5Writer& out, const Config& config, const Record& record) {
   const DsmcConfig& d = config.dsmc;
@@ -435,12 +725,24 @@ void present_dsmc(H5Writer& out, const Config& config, const Record& record) {
   }
   if (d.steady) {
     const std::uint64_t samples = record.total("steady_samples");
-    write_moments(out, "/steady", record.moments("steady"), 1, samples, true);
-    if (P)
-      write_speed_moments(out, "/steady", record.moments("moment_steady"), P, 1, samples, true);
+    for (const auto& o : kObservables) write_steady_observable(out, config, record, o, 0);
+    for (std::uint64_t k = 0; k < P; ++k) {
+      const int p = static_cast<int>(k) + 1;
+      const std::string name = moment_name(p);
+      const std::string description = "<|v - V|^" + std::to_string(2 * p) +
+                                      ">: the central speed moment of order " +
+                                      std::to_string(2 * p) + " (dsmc.moments)";
+      const ObservableInfo o{name.c_str(), static_cast<int>(k), 0, description.c_str()};
+      write_steady_observable(out, config, record, o, kNumScalars);
+    }
+    out.attr("/steady", "estimator",
+             std::string(d.steady_ci_independent ? "independent"
+                         : record.ensembles() >= kSteadyMinEnsembles || !steady_block_levels(d)
+                             ? "ensembles" : "blocking"));
     out.attr("/steady", "samples", samples);
     out.attr("/steady", "from", d.steady_from);
   }
+  write_sonine(out, config, record);
 }
 
 }  // namespace granboltz

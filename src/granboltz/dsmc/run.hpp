@@ -20,4 +20,28 @@ void present_dsmc(H5Writer& out, const Config& config, const Record& record);
 /// The observation times t_m, m = 0..M.
 std::vector<double> dsmc_times(const DsmcConfig& d);
 
+/// Ensembles from which the steady-state interval comes from their spread (dsmc.steady_ci:
+/// batch); with fewer, from blocking within the ensembles.
+inline constexpr std::uint64_t kSteadyMinEnsembles = 10;
+
+/// The steady-state statistics of one scalar: index k < kNumScalars is a component of an
+/// Observation, kNumScalars + p - 1 the speed moment <|v - V|^{2p}> (docs/output.md).
+struct SteadyStats {
+  double mean = 0.0;
+  double variance = 0.0;           ///< over all (ensemble, t_m) samples, as before
+  double sigma = 0.0;              ///< standard error of the mean
+  double ci = 0.0;                 ///< confidence half-width from sigma
+  double tau_int = 0.5;            ///< sigma^2 samples / (2 variance), in observation rows
+  double effective_samples = 0.0;  ///< samples / (2 tau_int)
+  double dof = 0.0;                ///< degrees of freedom of sigma (inf: independent)
+  std::uint64_t block_rows = 1;    ///< blocking: the block length chosen, in rows
+  const char* estimator = "independent";  ///< "ensembles" | "blocking" | "independent"
+};
+SteadyStats steady_stats(const Config& config, const Record& record, std::uint64_t k);
+
+/// The observation rows t_m > steady_from in each ensemble.
+std::uint64_t steady_rows(const DsmcConfig& d);
+/// Blocking levels l = 0..L-1 (blocks of 2^l rows) with at least 2 full blocks per ensemble.
+std::uint64_t steady_block_levels(const DsmcConfig& d);
+
 }  // namespace granboltz

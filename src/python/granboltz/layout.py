@@ -177,7 +177,10 @@ def observable_specs(name, trailing, rows, why, per_ensemble=None):
 
 def dsmc_layout(reader, section, rows, n):
     """Observables, events, steady, histogram and accumulators of a DSMC output (dsmc/run.cpp
-    present_dsmc, dsmc_layout): {"observables": {name: [Spec]}, ...}."""
+    present_dsmc, dsmc_layout): {"observables": {name: [Spec]}, ...}. Optional, so that files of
+    older simulators still read: /a2, /a3, /steady/a2, /steady/a3 (mean and ci, no variance) and
+    /steady/<observable>/sigma; read_run reads them where present, as groups the layout does not
+    name."""
     path, why = reader.path, reader.why
     P = config_int(path, section, "dsmc", ("moments",), 4)
     K1 = config_int(path, section, "dsmc", ("histogram", "shells")) + 1
