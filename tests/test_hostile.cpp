@@ -144,6 +144,17 @@ void forge_digest(const std::string& file) {
   H5Fclose(f);
 }
 
+// The two shards of a run of `cfg` (with `extra` arguments); true if both runs succeed.
+bool make_two_shards(const std::string& cfg, const std::string& a, const std::string& b,
+                     const std::string& extra = "") {
+  for (int i = 0; i < 2; ++i)
+    if (run_granboltz("run " + cfg + " -q" + extra + " --set shard.count=2 --set shard.index=" +
+                      std::to_string(i) + " -o " + (i ? b : a))
+            .exit_code != 0)
+      return false;
+  return true;
+}
+
 }  // namespace
 
 TEST(HostilePaths, AFifoOrADeviceAsOutputIsRefusedAndLeftAsItWas) {
@@ -375,11 +386,7 @@ TEST(HostileMerge, AnInputWithADamagedDerivedDatasetIsNamedAndVerifyFindsIt) {
   TempDir dir;
   const std::string cfg = dir.write("d.yaml", kTiny);
   const std::string a = dir.file("a.h5"), b = dir.file("b.h5"), m = dir.file("m.h5");
-  for (int i = 0; i < 2; ++i)
-    ASSERT_EQ(run_granboltz("run " + cfg + " -q --set shard.count=2 --set shard.index=" +
-                            std::to_string(i) + " -o " + (i ? b : a))
-                  .exit_code,
-              0);
+  ASSERT_TRUE(make_two_shards(cfg, a, b));
   const auto ok = run_bounded("verify " + a + " " + b);
   EXPECT_EQ(ok.exit_code, 0) << ok.output;
   EXPECT_NE(ok.output.find("a.h5: ok"), std::string::npos) << ok.output;
@@ -426,12 +433,7 @@ TEST(HostileMerge, ZeroWordsTurnedToOnesWhichFletcher32CannotSeeAreCaughtByTheDi
   TempDir dir;
   const std::string cfg = dir.write("d.yaml", kTiny);
   const std::string a = dir.file("a.h5"), b = dir.file("b.h5"), m = dir.file("m.h5");
-  for (int i = 0; i < 2; ++i)
-    ASSERT_EQ(run_granboltz("run " + cfg + " -q --set dsmc.histogram.shells=400" +
-                            " --set shard.count=2 --set shard.index=" + std::to_string(i) +
-                            " -o " + (i ? b : a))
-                  .exit_code,
-              0);
+  ASSERT_TRUE(make_two_shards(cfg, a, b, " --set dsmc.histogram.shells=400"));
   // The outer shells of the histogram's counts are zero: 8 zero bytes each, stored as written
   // (fewer than 4096 elements are not deflated).
   const std::string dataset = "/accumulators/histogram";
