@@ -480,19 +480,26 @@ void write_moments(H5Writer& out, const std::string& prefix, const std::vector<M
     write_observable(out, prefix, o, sums, kNumScalars, rows, samples, scalar_rows);
 }
 
+/// The speed moment <|v - V|^{2(k+1)}> as an observable: its name and description are held
+/// here, since ObservableInfo only points at them.
+struct SpeedMoment {
+  std::string name, description;
+  int k;
+  explicit SpeedMoment(std::uint64_t index)
+      : name(moment_name(static_cast<int>(index) + 1)),
+        description("<|v - V|^" + std::to_string(2 * (index + 1)) +
+                    ">: the central speed moment of order " + std::to_string(2 * (index + 1)) +
+                    " (dsmc.moments)"),
+        k(static_cast<int>(index)) {}
+  ObservableInfo info() const { return {name.c_str(), k, 0, description.c_str()}; }
+};
+
 /// The speed moments moment_2 ... moment_2P, from sums laid out as [rows][P].
 void write_speed_moments(H5Writer& out, const std::string& prefix,
                          const std::vector<Moments2>& sums, std::uint64_t P, std::uint64_t rows,
                          std::uint64_t samples, bool scalar_rows) {
-  for (std::uint64_t k = 0; k < P; ++k) {
-    const int p = static_cast<int>(k) + 1;
-    const std::string name = moment_name(p);
-    const std::string description = "<|v - V|^" + std::to_string(2 * p) +
-                                    ">: the central speed moment of order " +
-                                    std::to_string(2 * p) + " (dsmc.moments)";
-    const ObservableInfo o{name.c_str(), static_cast<int>(k), 0, description.c_str()};
-    write_observable(out, prefix, o, sums, P, rows, samples, scalar_rows);
-  }
+  for (std::uint64_t k = 0; k < P; ++k)
+    write_observable(out, prefix, SpeedMoment(k).info(), sums, P, rows, samples, scalar_rows);
 }
 
 }  // namespace
@@ -726,15 +733,8 @@ void present_dsmc(H5Writer& out, const Config& config, const Record& record) {
   if (d.steady) {
     const std::uint64_t samples = record.total("steady_samples");
     for (const auto& o : kObservables) write_steady_observable(out, config, record, o, 0);
-    for (std::uint64_t k = 0; k < P; ++k) {
-      const int p = static_cast<int>(k) + 1;
-      const std::string name = moment_name(p);
-      const std::string description = "<|v - V|^" + std::to_string(2 * p) +
-                                      ">: the central speed moment of order " +
-                                      std::to_string(2 * p) + " (dsmc.moments)";
-      const ObservableInfo o{name.c_str(), static_cast<int>(k), 0, description.c_str()};
-      write_steady_observable(out, config, record, o, kNumScalars);
-    }
+    for (std::uint64_t k = 0; k < P; ++k)
+      write_steady_observable(out, config, record, SpeedMoment(k).info(), kNumScalars);
     out.attr("/steady", "estimator",
              std::string(d.steady_ci_independent ? "independent"
                          : record.ensembles() >= kSteadyMinEnsembles || !steady_block_levels(d)
