@@ -518,7 +518,7 @@ dsmc:
   kernel: {lambda: 1, C: 0.0795774715459477}
   t_end: 1
   observe_every: 0.25
-  histogram: {shells: 10, radius: 8}
+  histogram: {shells: 10, radius: 8, component: true}
   moments: 4
   steady_from: 0.3
   weights:

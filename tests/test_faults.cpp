@@ -32,7 +32,7 @@ dsmc:
   kernel: {lambda: 1, C: 0.0795774715459477}
   t_end: 2
   observe_every: 0.5
-  histogram: {shells: 12, radius: 5}
+  histogram: {shells: 12, radius: 5, component: true}
   moments: 16
   steady_from: 0.5
 )";
@@ -123,7 +123,7 @@ dsmc:
   kernel: {lambda: 0, C: 0.3183098861837907}
   t_end: 8
   observe_every: 1
-  histogram: {shells: 8, radius: 8}
+  histogram: {shells: 8, radius: 8, component: true}
   moments: 8
   steady_from: 4
 )");

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
 #include "granboltz/dsmc/observables.hpp"
 #include "granboltz/random/rng.hpp"
@@ -80,9 +81,47 @@ TEST(Observables, RadialHistogramCountsShellsAndOverflow) {
   p[3].v = {3, 0, 0};     // r = R: overflow
   p[4].v = {10, 10, 10};  // overflow
   std::uint64_t counts[4] = {0, 0, 0, 0};
-  radial_histogram(p, HistogramSpec{3, 3.0}, counts);
+  radial_histogram(p, HistogramSpec{3, 3.0}, Vec3{}, counts);
   EXPECT_EQ(counts[0], 1u);
   EXPECT_EQ(counts[1], 1u);
   EXPECT_EQ(counts[2], 1u);
   EXPECT_EQ(counts[3], 2u);
+}
+
+TEST(Observables, RadialHistogramAboutTheBulkVelocityOrTheOrigin) {
+  Particles p(3);
+  const Vec3 V{0.5, -2.0, 1.0};
+  p[0].v = V + Vec3{0.1, 0, 0};  // |v - V| in shell 0, |v| = 2.3 in shell 2
+  p[1].v = V + Vec3{0, 1.5, 0};  // |v - V| in shell 1, |v| = 1.1 in shell 1
+  p[2].v = V + Vec3{0, 0, 2.5};  // |v - V| in shell 2, |v| = 3.8: overflow
+  std::uint64_t bulk[4] = {0, 0, 0, 0}, origin[4] = {0, 0, 0, 0};
+  HistogramSpec spec{3, 3.0};
+  radial_histogram(p, spec, V, bulk);
+  spec.bulk = false;
+  radial_histogram(p, spec, V, origin);
+  EXPECT_EQ(std::vector<std::uint64_t>(bulk, bulk + 4), (std::vector<std::uint64_t>{1, 1, 1, 0}));
+  EXPECT_EQ(std::vector<std::uint64_t>(origin, origin + 4),
+            (std::vector<std::uint64_t>{0, 1, 1, 1}));
+}
+
+TEST(Observables, ComponentHistogramBinsAndOverflow) {
+  const HistogramSpec spec{4, 2.0};  // bins of width 1 over (-2, 2); |x| >= 2 overflows
+  EXPECT_EQ(component_bin(-2.0, spec), 4u);
+  EXPECT_EQ(component_bin(std::nextafter(-2.0, 0.0), spec), 0u);
+  EXPECT_EQ(component_bin(-1.5, spec), 0u);
+  EXPECT_EQ(component_bin(-0.0, spec), 2u);
+  EXPECT_EQ(component_bin(0.999, spec), 2u);
+  EXPECT_EQ(component_bin(1.0, spec), 3u);
+  EXPECT_EQ(component_bin(std::nextafter(2.0, 0.0), spec), 3u);
+  EXPECT_EQ(component_bin(2.0, spec), 4u);
+  EXPECT_EQ(component_bin(-7.0, spec), 4u);
+  EXPECT_EQ(component_bin(std::nan(""), spec), 4u);
+  Particles p(2);
+  const Vec3 V{1.0, 5.0, 5.0};
+  p[0].v = {0.5, 0, 0};   // x - V_x = -0.5: bin 1
+  p[1].v = {3.5, 0, 0};   // 2.5: overflow
+  std::uint64_t counts[5] = {0, 0, 0, 0, 0};
+  component_histogram(p, spec, V, counts);
+  EXPECT_EQ(std::vector<std::uint64_t>(counts, counts + 5),
+            (std::vector<std::uint64_t>{0, 1, 0, 0, 1}));
 }

@@ -122,10 +122,17 @@ TEST(SteadyCi, OutputsCarrySigmaAndTheEstimatorAndIndependentKeepsTheOtherDatase
   EXPECT_EQ(b.dims("/steady/pressure_tensor/sigma"), (Dims{3, 3}));
   EXPECT_EQ(b.attr_uint64("/steady/moment_4", "samples"), 3u * 125u);
   EXPECT_GT(b.read_double("/steady/temperature/ci")[0], i.read_double("/steady/temperature/ci")[0]);
-  // independent: sigma = sqrt(variance / samples), and only the batch estimator's sums are extra.
+  // independent: sigma = sqrt(variance / samples), and beside it the batch estimator's interval,
+  // equal to the batch run's.
   const double var = i.read_double("/steady/temperature/variance")[0];
   EXPECT_DOUBLE_EQ(i.read_double("/steady/temperature/sigma")[0], std::sqrt(var / 375.0));
-  EXPECT_FALSE(i.exists("/accumulators/steady_ensemble"));
+  EXPECT_EQ(i.attr_string("/steady/temperature/batch", "estimator"), "blocking");
+  EXPECT_FALSE(b.exists("/steady/temperature/batch"));
+  for (const char* obs : {"temperature", "pressure_tensor", "moment_4"})
+    for (const char* what : {"/sigma", "/ci"})
+      EXPECT_EQ(i.read_bytes(std::string("/steady/") + obs + "/batch" + what),
+                b.read_bytes(std::string("/steady/") + obs + what))
+          << obs << what;
   EXPECT_TRUE(b.exists("/accumulators/steady_ensemble"));
   EXPECT_TRUE(b.exists("/accumulators/steady_blocks"));
   for (const std::string& name : i.datasets()) {
@@ -234,7 +241,7 @@ TEST(SonineCoefficients, A2AndA3FollowTheMomentsAndTheirIntervalsCoverReplicas) 
   EXPECT_LT(std::fabs(mean), 0.05);
 }
 
-TEST(SonineCoefficients, AbsentWithoutEnoughMomentsOrWithIndependentSteadyIntervals) {
+TEST(SonineCoefficients, AbsentWithoutEnoughMomentsAndFromEnsemblesWhateverSteadyCi) {
   test::TempDir dir;
   const std::string cfg = dir.write("c.yaml", kHeated);
   const std::string one = dir.file("one.h5"), two = dir.file("two.h5"), ind = dir.file("i.h5");
@@ -253,5 +260,7 @@ TEST(SonineCoefficients, AbsentWithoutEnoughMomentsOrWithIndependentSteadyInterv
   EXPECT_FALSE(b.exists("/a3/mean"));  // moments: 2 gives M2 and M4 only
   EXPECT_TRUE(b.exists("/steady/a2/ci"));
   EXPECT_TRUE(i.exists("/a2/mean"));
-  EXPECT_FALSE(i.exists("/steady/a2/mean"));
+  // The steady a2 has one estimator, the spread of the ensembles' averages.
+  EXPECT_EQ(i.attr_string("/steady/a2", "estimator"), "ensembles");
+  EXPECT_EQ(i.read_bytes("/steady/a2/ci"), b.read_bytes("/steady/a2/ci"));
 }

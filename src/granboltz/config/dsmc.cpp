@@ -116,7 +116,9 @@ DsmcConfig read_dsmc(const Section& s) {
     // The edges are radius * k / shells: beyond about 1e302 the product overflows to infinity.
     h.check(c.histogram.radius <= 1e300, "radius", c.histogram.radius,
             "must satisfy 0 < radius <= 1e300");
-    h.finish({"shells", "radius"});
+    c.histogram.bulk = h.choice("center", {"bulk", "origin"}, "bulk") == "bulk";
+    c.histogram.component = h.choice("component", {"false", "true"}, "false") == "true";
+    h.finish({"shells", "radius", "center", "component"});
   }
 
   const std::string majorant = s.choice("majorant", {"auto", "global", "pairwise"}, "auto");
@@ -218,11 +220,14 @@ void emit_dsmc(YAML::Emitter& out, const DsmcConfig& c) {
       << YAML::EndMap;
   out << YAML::Key << "t_end" << YAML::Value << format_real(c.t_end);
   out << YAML::Key << "observe_every" << YAML::Value << format_real(c.observe_every);
-  if (c.histogram.shells > 0)
+  if (c.histogram.shells > 0) {
     out << YAML::Key << "histogram" << YAML::Value << YAML::Flow << YAML::BeginMap
         << YAML::Key << "shells" << YAML::Value << c.histogram.shells
         << YAML::Key << "radius" << YAML::Value << format_real(c.histogram.radius)
-        << YAML::EndMap;
+        << YAML::Key << "center" << YAML::Value << (c.histogram.bulk ? "bulk" : "origin");
+    if (c.histogram.component) out << YAML::Key << "component" << YAML::Value << "true";
+    out << YAML::EndMap;
+  }
   // `auto` stays `auto`: with the version it determines the choice, written to /provenance.
   out << YAML::Key << "majorant" << YAML::Value
       << (c.majorant_auto ? "auto" : majorant_name(c.majorant));

@@ -212,8 +212,11 @@ DsmcEvents dsmc_events(const DsmcConfig& d, double ensembles) {
   if (split) e.ns += steps * (d.scheme == Scheme::kEuler ? kNsEulerStep : kNsStrangStep);
   if (heated) e.ns += split ? e.kicks * kNsStepKick : n * observations * kNsObservationKick;
   if (gaussian) e.ns += n * (observations + 1.0) * kNsGaussianFold;
+  // The component histogram has as many bins as the radial one.
   const double sums = kNumScalars + d.moments,
-               shells = d.histogram.shells ? static_cast<double>(d.histogram.shells) + 1.0 : 0.0;
+               shells = d.histogram.shells ? (static_cast<double>(d.histogram.shells) + 1.0) *
+                                                 (d.histogram.component ? 2.0 : 1.0)
+                                           : 0.0;
   e.serial_ns = (observations + 1.0) * (sums * (kNsRowSum + ensembles * kNsEnsembleRowSum) +
                                         shells * kNsRowShell);
   return e;

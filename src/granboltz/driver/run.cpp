@@ -127,7 +127,10 @@ std::uint64_t estimate_memory(const Config& config, unsigned threads) {
   if (config.model == Model::kDsmc) {
     const DsmcConfig& d = config.dsmc;
     const double rows = static_cast<double>(d.observations() + 1);
-    const double shells = d.histogram.shells ? static_cast<double>(d.histogram.shells + 1) : 0;
+    // The radial histogram, and as many bins again for the component histogram.
+    const double shells = d.histogram.shells ? static_cast<double>(d.histogram.shells + 1) *
+                                                   (d.histogram.component ? 2.0 : 1.0)
+                                             : 0;
     if (d.weights.swpm) {
       // Up to N_max + 2 particles and weights, twice over (a split sweep's copies may outgrow
       // the reserve before the reduction; the vector then moves), the sum tree (two doubles per

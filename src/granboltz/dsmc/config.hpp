@@ -31,6 +31,11 @@ inline constexpr int kMaxMoments = 16;
 struct HistogramSpec {
   std::uint64_t shells = 0;  ///< K shells of width R/K plus one overflow shell; 0: no histogram
   double radius = 0.0;       ///< R
+  /// center: bulk histograms |v - V(t)| with the ensemble's current bulk velocity (white noise
+  /// makes V random-walk); origin histograms |v|, GRW05 eq. (37).
+  bool bulk = true;
+  /// component: also the histogram of (v - V)_x over (-R, R) in K bins plus one for |.| >= R.
+  bool component = false;
 };
 
 /// dsmc.weights: the stochastic weighted particle method (SWPM, Rjasanow & Wagner 1996/2005).

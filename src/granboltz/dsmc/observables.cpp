@@ -112,15 +112,31 @@ Observation measure(std::span<const Particle> particles, std::span<double> momen
   return o;
 }
 
-void radial_histogram(std::span<const Particle> particles, const HistogramSpec& spec,
+void radial_histogram(std::span<const Particle> particles, const HistogramSpec& spec, Vec3 V,
                       std::uint64_t* counts) {
   const std::uint64_t K = spec.shells;
   const double scale = static_cast<double>(K) / spec.radius;
-  for (const auto& q : particles) {
-    const double r = norm(q.v);
+  auto add = [&](double r) {
     const double k = std::floor(r * scale);
     ++counts[k < static_cast<double>(K) ? static_cast<std::uint64_t>(k) : K];
-  }
+  };
+  if (spec.bulk)
+    for (const auto& q : particles) add(norm(q.v - V));
+  else
+    for (const auto& q : particles) add(norm(q.v));
+}
+
+std::uint64_t component_bin(double x, const HistogramSpec& spec) {
+  const std::uint64_t K = spec.shells;
+  // Written so that a NaN and |x| >= R fall through to the overflow bin.
+  if (!(std::fabs(x) < spec.radius)) return K;
+  const double k = std::floor((x + spec.radius) * (static_cast<double>(K) / (2.0 * spec.radius)));
+  return k < static_cast<double>(K) ? static_cast<std::uint64_t>(k) : K - 1;
+}
+
+void component_histogram(std::span<const Particle> particles, const HistogramSpec& spec, Vec3 V,
+                         std::uint64_t* counts) {
+  for (const auto& q : particles) ++counts[component_bin(q.v.x - V.x, spec)];
 }
 
 }  // namespace granboltz

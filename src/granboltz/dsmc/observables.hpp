@@ -53,9 +53,18 @@ Observation measure(std::span<const Particle> particles, std::span<double> momen
 double crit(double temperature, const double* pressure, const double* heat_flux,
             double fourth_moment);
 
-/// Adds the radial histogram counts of |v_j| to counts[0..K]: shell k < K holds
-/// k h <= |v| < (k+1) h, h = R/K (GRW05 eq. 37), shell K holds |v| >= R.
-void radial_histogram(std::span<const Particle> particles, const HistogramSpec& spec,
+/// Adds the radial histogram counts of r_j = |v_j - c| to counts[0..K]: shell k < K holds
+/// k h <= r < (k+1) h, h = R/K (GRW05 eq. 37), shell K holds r >= R. The center c is the bulk
+/// velocity V for spec.bulk, else the origin (then c is not used).
+void radial_histogram(std::span<const Particle> particles, const HistogramSpec& spec, Vec3 V,
                       std::uint64_t* counts);
+
+/// The bin of x = (v - V)_x in the component histogram: k < K for -R + k w <= x < -R + (k+1) w,
+/// w = 2R/K and |x| < R; K for |x| >= R (and a NaN).
+std::uint64_t component_bin(double x, const HistogramSpec& spec);
+
+/// Adds the counts of (v_j - V)_x to counts[0..K] (component_bin).
+void component_histogram(std::span<const Particle> particles, const HistogramSpec& spec, Vec3 V,
+                         std::uint64_t* counts);
 
 }  // namespace granboltz

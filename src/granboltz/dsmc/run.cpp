@@ -70,7 +70,9 @@ Record dsmc_layout(const Config& config) {
   const std::uint64_t rows = d.observations() + 1;
   Record r;
   r.declare_moments("series", rows * kNumScalars);
-  if (d.histogram.shells) r.declare_counts("histogram", rows * (d.histogram.shells + 1));
+  const std::uint64_t K1 = d.histogram.shells ? d.histogram.shells + 1 : 0;
+  const bool component = K1 && d.histogram.component;
+  if (K1) r.declare_counts("histogram", rows * K1);
   if (d.steady) {
     r.declare_moments("steady", kNumScalars);
     r.declare_total("steady_samples");
@@ -82,10 +84,11 @@ Record dsmc_layout(const Config& config) {
   for (const ColumnSpec& c : kColumns) r.declare_column(c.path, c.floating);
   // The steady-state histogram: per ensemble the time average of f_k over the steady rows, so
   // that its confidence interval comes from independent ensembles, not from correlated rows.
-  if (d.steady && d.histogram.shells) r.declare_moments("histogram_steady", d.histogram.shells + 1);
-  if (d.steady && !d.steady_ci_independent) {
+  if (d.steady && K1) r.declare_moments("histogram_steady", K1);
+  if (d.steady) {
     // Consecutive rows of an ensemble are correlated: per ensemble its time average of every
     // scalar and speed moment, and for each blocking level the blocked variance of that average.
+    // Kept with steady_ci: independent too, whose outputs show the honest interval beside theirs.
     const std::uint64_t K = kNumScalars + P;
     r.declare_moments("steady_ensemble", K);
     if (const std::uint64_t L = steady_block_levels(d)) r.declare_moments("steady_blocks", L * K);
@@ -94,13 +97,19 @@ Record dsmc_layout(const Config& config) {
   // sums (only `sum` is used). Pairs (M2, M4), then with P >= 3 (M2, M6), (M4, M6).
   if (const std::uint64_t C = cross_pairs(P)) {
     r.declare_moments("moment_cross", rows * C);
-    if (d.steady && !d.steady_ci_independent) r.declare_moments("steady_moment_cross", C);
+    if (d.steady) r.declare_moments("steady_moment_cross", C);
   }
   if (d.weights.swpm) {
     // SWPM: the histogram's weight per shell (f_k itself), beside the particle numbers above.
-    if (d.histogram.shells) r.declare_moments("histogram_weight", rows * (d.histogram.shells + 1));
+    if (K1) r.declare_moments("histogram_weight", rows * K1);
     r.declare_column("/events/reductions", false);
     r.declare_column("/events/particles_final", false);
+  }
+  // The histogram of (v - V)_x: after the others, so that their layout stays.
+  if (component) {
+    r.declare_counts("histogram_component", rows * K1);
+    if (d.steady) r.declare_moments("histogram_component_steady", K1);
+    if (d.weights.swpm) r.declare_moments("histogram_component_weight", rows * K1);
   }
   return r;
 }
@@ -116,6 +125,8 @@ struct InProgress {
   std::vector<double> moments;         // [rows * P]: <|v - V|^{2p}>, p = 1..P
   std::vector<std::uint64_t> hist;     // [rows * K1]: particles per shell
   std::vector<double> whist;           // swpm: [rows * K1] weight per shell
+  std::vector<std::uint64_t> comp;     // histogram.component: [rows * K1] particles per bin
+  std::vector<double> wcomp;           // swpm and histogram.component: [rows * K1] weight per bin
 };
 
 // An observable that overflowed: named with the values that make a run overflow, instead of
@@ -139,6 +150,7 @@ void save_in_progress(H5Writer& out, std::uint64_t e, const InProgress& w) {
   if (w.weighted) {
     w.weighted->save(out, g);
     out.write(g + "/histogram_weight", w.whist, {w.whist.size()});
+    if (!w.wcomp.empty()) out.write(g + "/histogram_component_weight", w.wcomp, {w.wcomp.size()});
   } else {
     w.ensemble->save(out, g);
   }
@@ -152,6 +164,7 @@ void save_in_progress(H5Writer& out, std::uint64_t e, const InProgress& w) {
                                   w.moments.begin() + static_cast<std::ptrdiff_t>(w.next * P)),
               {w.next, P});
   out.write(g + "/histogram", w.hist, {w.hist.size()});
+  if (!w.comp.empty()) out.write(g + "/histogram_component", w.comp, {w.comp.size()});
   out.attr(g, "next_observation", w.next);
 }
 
@@ -185,6 +198,12 @@ InProgress load_in_progress(const DsmcConfig& d, const H5Reader& in, std::uint64
       throw std::runtime_error(in.path() + ": malformed ensemble state " + g);
     const auto moments = in.read_double(path);
     std::copy(moments.begin(), moments.end(), w.moments.begin());
+  }
+  if (K1 && d.histogram.component) {
+    w.comp = in.read_uint64(g + "/histogram_component");
+    if (w.weighted) w.wcomp = in.read_double(g + "/histogram_component_weight");
+    if (w.comp.size() != rows * K1 || (w.weighted && w.wcomp.size() != rows * K1))
+      throw std::runtime_error(in.path() + ": malformed ensemble state " + g);
   }
   return w;
 }
@@ -314,6 +333,10 @@ void run_dsmc(const Config& config, const DriverOptions& options, Record& record
       w.obs.resize(rows);
       w.moments.assign(rows * P, 0.0);
       w.hist.assign(rows * K1, 0);
+      if (K1 && d.histogram.component) {
+        w.comp.assign(rows * K1, 0);
+        if (w.weighted) w.wcomp.assign(rows * K1, 0.0);
+      }
     }
     auto advance = [&](double s) {
       return w.weighted ? w.weighted->advance_to(s, &pause) : w.ensemble->advance_to(s, &pause);
@@ -331,12 +354,19 @@ void run_dsmc(const Config& config, const DriverOptions& options, Record& record
       if (w.weighted) {
         const WeightedEnsemble& we = *w.weighted;
         w.obs[m] = measure_weighted(we.particles(), we.weights(), {w.moments.data() + m * P, P});
+        const Vec3 V{w.obs[m][1], w.obs[m][2], w.obs[m][3]};
         if (K1)
-          radial_histogram_weighted(we.particles(), we.weights(), d.histogram,
+          radial_histogram_weighted(we.particles(), we.weights(), d.histogram, V,
                                     &w.whist[m * K1], &w.hist[m * K1]);
+        if (!w.comp.empty())
+          component_histogram_weighted(we.particles(), we.weights(), d.histogram, V,
+                                       &w.wcomp[m * K1], &w.comp[m * K1]);
       } else {
         w.obs[m] = measure(w.ensemble->particles(), {w.moments.data() + m * P, P});
-        if (K1) radial_histogram(w.ensemble->particles(), d.histogram, &w.hist[m * K1]);
+        const Vec3 V{w.obs[m][1], w.obs[m][2], w.obs[m][3]};
+        if (K1) radial_histogram(w.ensemble->particles(), d.histogram, V, &w.hist[m * K1]);
+        if (!w.comp.empty())
+          component_histogram(w.ensemble->particles(), d.histogram, V, &w.comp[m * K1]);
       }
     }
     // Exact sums: the order in which ensembles arrive here does not matter.
@@ -372,28 +402,34 @@ void run_dsmc(const Config& config, const DriverOptions& options, Record& record
         ++record.total("steady_samples");
       }
     }
-    if (d.steady && !d.steady_ci_independent) add_steady_blocks(d, times, w, record);
-    if (K1) record.add_counts("histogram", w.hist);
-    if (K1 && d.steady) {
-      std::vector<double> avg(K1, 0.0);
-      double steady_rows = 0.0;
-      for (std::uint64_t m = 0; m < rows; ++m) {
-        if (!(times[m] > steady_after)) continue;
-        steady_rows += 1.0;
-        for (std::uint64_t k = 0; k < K1; ++k)
-          avg[k] += w.weighted ? w.whist[m * K1 + k]
-                               : static_cast<double>(w.hist[m * K1 + k]) /
-                                     static_cast<double>(d.particles);
+    if (d.steady) add_steady_blocks(d, times, w, record);
+    // A histogram's per-ensemble steady average of f_k and, for SWPM, its weights per row.
+    auto add_histogram = [&](const std::string& name, const std::vector<std::uint64_t>& hist,
+                             const std::vector<double>& whist) {
+      record.add_counts(name, hist);
+      if (d.steady) {
+        std::vector<double> avg(K1, 0.0);
+        double steady_rows = 0.0;
+        for (std::uint64_t m = 0; m < rows; ++m) {
+          if (!(times[m] > steady_after)) continue;
+          steady_rows += 1.0;
+          for (std::uint64_t k = 0; k < K1; ++k)
+            avg[k] += w.weighted ? whist[m * K1 + k]
+                                 : static_cast<double>(hist[m * K1 + k]) /
+                                       static_cast<double>(d.particles);
+        }
+        auto& hs = record.moments(name + "_steady");
+        for (std::uint64_t k = 0; k < K1; ++k) hs[k].add(avg[k] / steady_rows);
       }
-      auto& hs = record.moments("histogram_steady");
-      for (std::uint64_t k = 0; k < K1; ++k) hs[k].add(avg[k] / steady_rows);
-    }
+      if (w.weighted) {
+        auto& hw = record.moments(name + "_weight");
+        for (std::size_t k = 0; k < whist.size(); ++k) hw[k].add(whist[k]);
+      }
+    };
+    if (K1) add_histogram("histogram", w.hist, w.whist);
+    if (!w.comp.empty()) add_histogram("histogram_component", w.comp, w.wcomp);
     if (w.weighted) {
       const WeightedEnsemble& we = *w.weighted;
-      if (K1) {
-        auto& hw = record.moments("histogram_weight");
-        for (std::size_t k = 0; k < w.whist.size(); ++k) hw[k].add(w.whist[k]);
-      }
       const EventCounts& c = we.counts();
       record.add_ensemble(e, {static_cast<double>(c.collisions), static_cast<double>(c.fictitious),
                               static_cast<double>(c.kicks), we.u_max(),
@@ -439,39 +475,52 @@ void write_observable(H5Writer& out, const std::string& prefix, const Observable
 
 /// The /steady group of one observable: mean, ci, variance as write_observable, plus sigma and
 /// the estimator's attributes (the largest tau_int over the components, the smallest N_eff).
+/// With steady_ci: independent the batch estimator's sigma and ci follow in a `batch` subgroup.
 void write_steady_observable(H5Writer& out, const Config& config, const Record& record,
                              const ObservableInfo& o, std::uint64_t base) {
   const int size = observable_size(o);
-  std::vector<double> mean, ci, var, sigma;
-  double tau = 0.0, neff = 0.0;
-  std::uint64_t block_rows = 0;
-  const char* estimator = "independent";
-  for (int k = 0; k < size; ++k) {
-    const SteadyStats s = steady_stats(config, record, base + static_cast<std::uint64_t>(o.offset + k));
-    mean.push_back(s.mean);
-    ci.push_back(s.ci);
-    var.push_back(s.variance);
-    sigma.push_back(s.sigma);
-    if (k == 0 || s.tau_int > tau || std::isnan(s.tau_int)) tau = s.tau_int;
-    if (k == 0 || s.effective_samples < neff || std::isnan(s.effective_samples))
-      neff = s.effective_samples;
-    block_rows = std::max(block_rows, s.block_rows);
-    estimator = s.estimator;
-  }
+  const std::string g = "/steady/" + std::string(o.name);
   Dims dims = shape_of(o, 1);
   dims.erase(dims.begin());
-  const std::string g = "/steady/" + std::string(o.name);
-  out.write(g + "/mean", mean, dims);
-  out.write(g + "/ci", ci, dims);
-  out.write(g + "/variance", var, dims);
-  out.attr(g, "description", std::string(o.description));
-  out.write(g + "/sigma", sigma, dims);
-  out.attr(g, "estimator", std::string(estimator));
-  out.attr(g, "tau_int", tau);
-  out.attr(g, "effective_samples", neff);
-  out.attr(g, "samples", record.total("steady_samples"));
-  out.attr(g, "from", config.dsmc.steady_from);
-  if (std::string(estimator) == "blocking") out.attr(g, "block_rows", block_rows);
+  auto write = [&](const std::string& group, bool batch) {
+    std::vector<double> mean, ci, var, sigma;
+    double tau = 0.0, neff = 0.0;
+    std::uint64_t block_rows = 0;
+    const char* estimator = "independent";
+    for (int k = 0; k < size; ++k) {
+      const SteadyStats s =
+          steady_stats(config, record, base + static_cast<std::uint64_t>(o.offset + k), batch);
+      mean.push_back(s.mean);
+      ci.push_back(s.ci);
+      var.push_back(s.variance);
+      sigma.push_back(s.sigma);
+      if (k == 0 || s.tau_int > tau || std::isnan(s.tau_int)) tau = s.tau_int;
+      if (k == 0 || s.effective_samples < neff || std::isnan(s.effective_samples))
+        neff = s.effective_samples;
+      block_rows = std::max(block_rows, s.block_rows);
+      estimator = s.estimator;
+    }
+    if (group == g) {
+      out.write(g + "/mean", mean, dims);
+      out.write(g + "/ci", ci, dims);
+      out.write(g + "/variance", var, dims);
+      out.attr(g, "description", std::string(o.description));
+    } else {
+      out.write(group + "/ci", ci, dims);
+      out.attr(group, "description",
+               std::string("the batch estimator's interval (dsmc.steady_ci: batch), which "
+                           "accounts for the correlation of consecutive rows"));
+    }
+    out.write(group + "/sigma", sigma, dims);
+    out.attr(group, "estimator", std::string(estimator));
+    out.attr(group, "tau_int", tau);
+    out.attr(group, "effective_samples", neff);
+    out.attr(group, "samples", record.total("steady_samples"));
+    out.attr(group, "from", config.dsmc.steady_from);
+    if (std::string(estimator) == "blocking") out.attr(group, "block_rows", block_rows);
+  };
+  write(g, false);
+  if (config.dsmc.steady_ci_independent) write(g + "/batch", true);
 }
 
 void write_moments(H5Writer& out, const std::string& prefix, const std::vector<Moments2>& sums,
@@ -587,7 +636,7 @@ void write_sonine(H5Writer& out, const Config& config, const Record& record) {
     out.write("/a3/ci", a3ci, {rows});
     out.attr("/a3", "description", std::string(kA3Description));
   }
-  if (!d.steady || d.steady_ci_independent) return;
+  if (!d.steady) return;
   // Steady: each ensemble's time averages of M2, M4, M6 are one independent sample.
   const Sonine s = sonine(&record.moments("steady_ensemble")[kNumScalars],
                           record.moments("steady_moment_cross").data(), P, N, true);
@@ -607,7 +656,8 @@ void write_sonine(H5Writer& out, const Config& config, const Record& record) {
 
 }  // namespace
 
-SteadyStats steady_stats(const Config& config, const Record& record, std::uint64_t k) {
+SteadyStats steady_stats(const Config& config, const Record& record, std::uint64_t k,
+                         bool batch) {
   const DsmcConfig& d = config.dsmc;
   const auto P = static_cast<std::uint64_t>(d.moments);
   const std::uint64_t S = record.total("steady_samples"), N = record.ensembles();
@@ -618,7 +668,7 @@ SteadyStats steady_stats(const Config& config, const Record& record, std::uint64
   r.variance = all.variance;
   r.effective_samples = static_cast<double>(S);
   r.dof = INFINITY;
-  if (d.steady_ci_independent || S == 0) {  // every (ensemble, t_m) sample counted independent
+  if ((d.steady_ci_independent && !batch) || S == 0) {  // every (ensemble, t_m) sample counted independent
     r.sigma = S ? std::sqrt(all.variance / static_cast<double>(S)) : 0.0;
     r.ci = all.ci;
     return r;
@@ -672,6 +722,61 @@ SteadyStats steady_stats(const Config& config, const Record& record, std::uint64
   return r;
 }
 
+namespace {
+
+/// A histogram's /<name> group (edges, mean, ci, counts per row) and, with steady_from, its
+/// /steady/<name> group, from the accumulators <name>, <name>_steady and, for SWPM, <name>_weight.
+void write_histogram(H5Writer& out, const Config& config, const Record& record,
+                     const std::string& name, const std::vector<double>& edges,
+                     const char* description) {
+  const DsmcConfig& d = config.dsmc;
+  const std::uint64_t rows = d.observations() + 1, N = record.ensembles(), K1 = edges.size();
+  const auto& counts = record.counts(name);
+  const auto& counts_sq = record.counts_sq(name);
+  std::vector<double> mean(rows * K1), ci(rows * K1);
+  const double n = static_cast<double>(d.particles), Nd = static_cast<double>(N);
+  if (d.weights.swpm) {  // f_k = the weight in shell k, from exact sums over ensembles
+    const auto& hw = record.moments(name + "_weight");
+    for (std::size_t k = 0; k < mean.size(); ++k) {
+      const MeanCi s = hw[k].stats(N);
+      mean[k] = s.mean;
+      ci[k] = s.ci;
+    }
+  }
+  for (std::size_t k = 0; k < mean.size() && !d.weights.swpm; ++k) {
+    const double f = static_cast<double>(counts[k]) / (n * Nd);
+    const double f2 = static_cast<double>(counts_sq[k]) / (n * n * Nd);
+    mean[k] = f;
+    ci[k] = kLambdaP * std::sqrt(std::max(0.0, f2 - f * f) / Nd);
+  }
+  const std::string g = "/" + name;
+  out.write(g + "/edges", edges, {K1});
+  out.write(g + "/mean", mean, {rows, K1});
+  out.write(g + "/ci", ci, {rows, K1});
+  out.write(g + "/counts", counts, {rows, K1});
+  out.attr(g, "description", std::string(description));
+  out.attr(g, "center", std::string(d.histogram.bulk || name != "histogram" ? "bulk" : "origin"));
+  if (!d.steady) return;
+  const auto& hs = record.moments(name + "_steady");
+  std::vector<double> smean(hs.size()), sci(hs.size());
+  for (std::size_t k = 0; k < hs.size(); ++k) {
+    const MeanCi s = hs[k].stats(N);
+    smean[k] = s.mean;
+    sci[k] = s.ci;
+  }
+  std::uint64_t steady_rows = 0;
+  for (double t : dsmc_times(d)) steady_rows += t > d.steady_from + 1e-9 * d.observe_every;
+  out.write("/steady" + g + "/mean", smean, {smean.size()});
+  out.write("/steady" + g + "/ci", sci, {sci.size()});
+  out.attr("/steady" + g, "rows", steady_rows);
+  out.attr("/steady" + g, "description",
+           std::string("f_k averaged over the observation times t_m > steady_from in each "
+                       "ensemble; mean and confidence half-width over the ensembles (edges: ") +
+               g + "/edges)");
+}
+
+}  // namespace
+
 void present_dsmc(H5Writer& out, const Config& config, const Record& record) {
   const DsmcConfig& d = config.dsmc;
   const std::vector<double> times = dsmc_times(d);
@@ -684,51 +789,24 @@ void present_dsmc(H5Writer& out, const Config& config, const Record& record) {
 
   if (d.histogram.shells) {
     const std::uint64_t K1 = d.histogram.shells + 1;
-    const auto& counts = record.counts("histogram");
-    const auto& counts_sq = record.counts_sq("histogram");
-    std::vector<double> edges(K1), mean(rows * K1), ci(rows * K1);
+    std::vector<double> edges(K1);
     for (std::uint64_t k = 0; k < K1; ++k)
       edges[k] = d.histogram.radius * static_cast<double>(k) / static_cast<double>(K1 - 1);
-    const double n = static_cast<double>(d.particles), Nd = static_cast<double>(N);
-    if (d.weights.swpm) {  // f_k = the weight in shell k, from exact sums over ensembles
-      const auto& hw = record.moments("histogram_weight");
-      for (std::size_t k = 0; k < mean.size(); ++k) {
-        const MeanCi s = hw[k].stats(N);
-        mean[k] = s.mean;
-        ci[k] = s.ci;
-      }
+    write_histogram(out, config, record, "histogram", edges,
+                    d.histogram.bulk
+                        ? "f_k = fraction of particles with r_k <= |v - V(t)| < r_{k+1}, r_k = k R/K, "
+                          "V(t) the ensemble's bulk velocity (dsmc.histogram.center: bulk); the "
+                          "last shell holds |v - V| >= R"
+                        : "f_k = fraction of particles with r_k <= |v| < r_{k+1}, r_k = k R/K "
+                          "(GRW05 eq. 37); the last shell holds |v| >= R");
+    if (d.histogram.component) {
+      // K + 1 edges -R .. R of the K bins; the last bin of mean holds |(v - V)_x| >= R.
+      for (std::uint64_t k = 0; k < K1; ++k)
+        edges[k] = d.histogram.radius * (2.0 * static_cast<double>(k) / static_cast<double>(K1 - 1) - 1.0);
+      write_histogram(out, config, record, "histogram_component", edges,
+                      "f_k = fraction of particles with x_k <= (v - V(t))_x < x_{k+1}, x_k = -R + "
+                      "2 k R/K (dsmc.histogram.component); the last bin holds |(v - V)_x| >= R");
     }
-    for (std::size_t k = 0; k < mean.size() && !d.weights.swpm; ++k) {
-      const double f = static_cast<double>(counts[k]) / (n * Nd);
-      const double f2 = static_cast<double>(counts_sq[k]) / (n * n * Nd);
-      mean[k] = f;
-      ci[k] = kLambdaP * std::sqrt(std::max(0.0, f2 - f * f) / Nd);
-    }
-    out.write("/histogram/edges", edges, {K1});
-    out.write("/histogram/mean", mean, {rows, K1});
-    out.write("/histogram/ci", ci, {rows, K1});
-    out.write("/histogram/counts", counts, {rows, K1});
-    out.attr("/histogram", "description",
-             std::string("f_k = fraction of particles with r_k <= |v| < r_{k+1}, r_k = k R/K "
-                         "(GRW05 eq. 37); the last shell holds |v| >= R"));
-  }
-  if (d.steady && d.histogram.shells) {
-    const auto& hs = record.moments("histogram_steady");
-    std::vector<double> mean(hs.size()), ci(hs.size());
-    for (std::size_t k = 0; k < hs.size(); ++k) {
-      const MeanCi s = hs[k].stats(N);
-      mean[k] = s.mean;
-      ci[k] = s.ci;
-    }
-    std::uint64_t steady_rows = 0;
-    for (double t : times) steady_rows += t > d.steady_from + 1e-9 * d.observe_every;
-    out.write("/steady/histogram/mean", mean, {mean.size()});
-    out.write("/steady/histogram/ci", ci, {ci.size()});
-    out.attr("/steady/histogram", "rows", steady_rows);
-    out.attr("/steady/histogram", "description",
-             std::string("f_k averaged over the observation times t_m > steady_from in each "
-                         "ensemble; mean and confidence half-width over the ensembles (edges: "
-                         "/histogram/edges)"));
   }
   if (d.steady) {
     const std::uint64_t samples = record.total("steady_samples");

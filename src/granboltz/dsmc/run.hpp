@@ -37,7 +37,9 @@ struct SteadyStats {
   std::uint64_t block_rows = 1;    ///< blocking: the block length chosen, in rows
   const char* estimator = "independent";  ///< "ensembles" | "blocking" | "independent"
 };
-SteadyStats steady_stats(const Config& config, const Record& record, std::uint64_t k);
+/// `batch`: the batch estimator even where the config asks for steady_ci: independent.
+SteadyStats steady_stats(const Config& config, const Record& record, std::uint64_t k,
+                         bool batch = false);
 
 /// The observation rows t_m > steady_from in each ensemble.
 std::uint64_t steady_rows(const DsmcConfig& d);

@@ -593,14 +593,25 @@ Observation measure_weighted(std::span<const Particle> p, std::span<const double
 }
 
 void radial_histogram_weighted(std::span<const Particle> p, std::span<const double> g,
-                               const HistogramSpec& spec, double* weight, std::uint64_t* count) {
+                               const HistogramSpec& spec, Vec3 V, double* weight,
+                               std::uint64_t* count) {
   const std::uint64_t K = spec.shells;
   const double scale = static_cast<double>(K) / spec.radius;
   for (std::size_t i = 0; i < p.size(); ++i) {
-    const double k = std::floor(norm(p[i].v) * scale);
+    const double k = std::floor((spec.bulk ? norm(p[i].v - V) : norm(p[i].v)) * scale);
     const std::uint64_t s = k < static_cast<double>(K) ? static_cast<std::uint64_t>(k) : K;
     weight[s] += g[i];
     ++count[s];
+  }
+}
+
+void component_histogram_weighted(std::span<const Particle> p, std::span<const double> g,
+                                  const HistogramSpec& spec, Vec3 V, double* weight,
+                                  std::uint64_t* count) {
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const std::uint64_t k = component_bin(p[i].v.x - V.x, spec);
+    weight[k] += g[i];
+    ++count[k];
   }
 }
 

@@ -143,6 +143,11 @@ class WeightedEnsemble {
 Observation measure_weighted(std::span<const Particle> p, std::span<const double> g,
                              std::span<double> moments = {});
 void radial_histogram_weighted(std::span<const Particle> p, std::span<const double> g,
-                               const HistogramSpec& spec, double* weight, std::uint64_t* count);
+                               const HistogramSpec& spec, Vec3 V, double* weight,
+                               std::uint64_t* count);
+/// As component_histogram() with the weights: weight[k] += g_j, ++count[k].
+void component_histogram_weighted(std::span<const Particle> p, std::span<const double> g,
+                                  const HistogramSpec& spec, Vec3 V, double* weight,
+                                  std::uint64_t* count);
 
 }  // namespace granboltz
