@@ -100,6 +100,9 @@ def dsmc_run_config(label, physics, N, n, t_end, observe_every, **dsmc):
     """The simulator's run config (a dict, written as YAML): physics (alpha, beta, gamma,
     kernel, temperature0, majorant_update) and timing, plus any further dsmc keys (scheme,
     steps, histogram, steady_from)."""
+    if "histogram" in dsmc:
+        # The papers' histograms are of |v| (GRW05 eq. 37), not of |v - V(t)|.
+        dsmc["histogram"] = {"center": "origin", **dsmc["histogram"]}
     return {
         "model": "dsmc",
         "seed": run_seed(label),
