@@ -559,8 +559,10 @@ namespace {
 /// means of M2, M4, M6, and their variances by the delta method, g^T Cov g / N with the
 /// covariance of the ensembles' (M2, M4, M6): a ratio of means, not a mean of ratios, so that
 /// neither is biased by the noise of one ensemble's M2.
+/// bias_*: the ratio estimator's leading bias, (1/2) tr(H Cov) / N with H the Hessian of a2 or
+/// a3 in the moments (second-order delta method); O(1/N) against a sigma of O(1/sqrt(N)).
 struct Sonine {
-  double a2 = 0.0, a3 = 0.0, var_a2 = 0.0, var_a3 = 0.0;
+  double a2 = 0.0, a3 = 0.0, var_a2 = 0.0, var_a3 = 0.0, bias_a2 = 0.0, bias_a3 = 0.0;
 };
 Sonine sonine(const Moments2* M, const Moments2* cross, std::uint64_t P, std::uint64_t N,
               bool sample_covariance) {
@@ -585,15 +587,31 @@ Sonine sonine(const Moments2* M, const Moments2* cross, std::uint64_t P, std::ui
       for (int j = 0; j < q; ++j) v += g[i] * cov[i][j] * g[j];
     return std::max(0.0, v / n);
   };
+  auto bias = [&](const double (&H)[3][3]) {
+    double b = 0.0;
+    for (int i = 0; i < q; ++i)
+      for (int j = 0; j < q; ++j) b += H[i][j] * cov[i][j];
+    return 0.5 * b / n;
+  };
   const double c2 = 3.0 / 5.0, c3 = 9.0 / 35.0, m2 = mu[0], m4 = mu[1], m6 = mu[2];
   r.a2 = c2 * m4 / (m2 * m2) - 1.0;
   const double g2[3] = {-2.0 * c2 * m4 / (m2 * m2 * m2), c2 / (m2 * m2), 0.0};
   r.var_a2 = variance(g2);
+  const double m2_3 = m2 * m2 * m2, m2_4 = m2_3 * m2;
+  const double H2[3][3] = {{6.0 * c2 * m4 / m2_4, -2.0 * c2 / m2_3, 0.0},
+                           {-2.0 * c2 / m2_3, 0.0, 0.0},
+                           {0.0, 0.0, 0.0}};
+  r.bias_a2 = bias(H2);
   if (q == 3) {
     r.a3 = 1.0 + 3.0 * r.a2 - c3 * m6 / (m2 * m2 * m2);
     const double g3[3] = {3.0 * g2[0] + 3.0 * c3 * m6 / (m2 * m2 * m2 * m2), 3.0 * g2[1],
                           -c3 / (m2 * m2 * m2)};
     r.var_a3 = variance(g3);
+    const double H3[3][3] = {{3.0 * H2[0][0] - 12.0 * c3 * m6 / (m2_4 * m2), 3.0 * H2[0][1],
+                              3.0 * c3 / m2_4},
+                             {3.0 * H2[1][0], 0.0, 0.0},
+                             {3.0 * c3 / m2_4, 0.0, 0.0}};
+    r.bias_a3 = bias(H3);
   }
   return r;
 }
@@ -607,10 +625,12 @@ double confidence_factor(double dof) {
 
 const char* const kA2Description =
     "a2 = 3/5 M4/M2^2 - 1, the second Sonine coefficient from the ensemble means of the speed "
-    "moments (d = 3); ci by the delta method over the ensembles";
+    "moments (d = 3); ci by the delta method over the ensembles; bias: the ratio estimator's "
+    "leading 1/N bias (second-order delta method), not subtracted from mean";
 const char* const kA3Description =
     "a3 = 1 + 3 a2 - 9/35 M6/M2^3, the third Sonine coefficient from the ensemble means of the "
-    "speed moments (d = 3); ci by the delta method over the ensembles";
+    "speed moments (d = 3); ci by the delta method over the ensembles; bias: the ratio "
+    "estimator's leading 1/N bias (second-order delta method), not subtracted from mean";
 
 void write_sonine(H5Writer& out, const Config& config, const Record& record) {
   const DsmcConfig& d = config.dsmc;
@@ -620,20 +640,24 @@ void write_sonine(H5Writer& out, const Config& config, const Record& record) {
   const std::uint64_t rows = d.observations() + 1;
   const auto& series = record.moments("moment_series");
   const auto& cross = record.moments("moment_cross");
-  std::vector<double> a2(rows), a2ci(rows), a3(rows), a3ci(rows);
+  std::vector<double> a2(rows), a2ci(rows), a2bias(rows), a3(rows), a3ci(rows), a3bias(rows);
   for (std::uint64_t m = 0; m < rows; ++m) {
     const Sonine s = sonine(&series[m * P], &cross[m * C], P, N, false);
     a2[m] = s.a2;
     a2ci[m] = kLambdaP * std::sqrt(s.var_a2);
+    a2bias[m] = s.bias_a2;
     a3[m] = s.a3;
     a3ci[m] = kLambdaP * std::sqrt(s.var_a3);
+    a3bias[m] = s.bias_a3;
   }
   out.write("/a2/mean", a2, {rows});
   out.write("/a2/ci", a2ci, {rows});
+  out.write("/a2/bias", a2bias, {rows});
   out.attr("/a2", "description", std::string(kA2Description));
   if (P >= 3) {
     out.write("/a3/mean", a3, {rows});
     out.write("/a3/ci", a3ci, {rows});
+    out.write("/a3/bias", a3bias, {rows});
     out.attr("/a3", "description", std::string(kA3Description));
   }
   if (!d.steady) return;
@@ -647,6 +671,7 @@ void write_sonine(H5Writer& out, const Config& config, const Record& record) {
     out.write(g + "/mean", std::vector<double>{which == 2 ? s.a2 : s.a3}, {});
     out.write(g + "/sigma", std::vector<double>{sigma}, {});
     out.write(g + "/ci", std::vector<double>{factor * sigma}, {});
+    out.write(g + "/bias", std::vector<double>{which == 2 ? s.bias_a2 : s.bias_a3}, {});
     out.attr(g, "description", std::string(which == 2 ? kA2Description : kA3Description));
     out.attr(g, "estimator", std::string("ensembles"));
     out.attr(g, "samples", record.total("steady_samples"));
