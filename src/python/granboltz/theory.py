@@ -167,3 +167,20 @@ def t_coverage(N, lambda_p=LAMBDA_P):
     normalisation): P(|t_{N-1}| <= lambda_p sqrt((N-1)/N)) (0.986 for N = 10, 0.9986 as N grows)."""
     return float(1.0 - 2.0 * stats.t.sf(lambda_p * math.sqrt((N - 1) / N), N - 1)) if N > 1 else float("nan")
 
+
+
+# ----------------------------------------------------------------------------- Sonine theory
+# Kept in granboltz.sonine (with its references); its public names are also theory's, where a
+# reader looks for the steady temperature and a2, a3 of hard spheres and of Maxwell molecules.
+from .sonine import (  # noqa: E402,F401
+    cooling_rate,
+    first_sonine_a2,
+    hard_sphere_steady_temperature,
+    hcs_moment_threshold,
+    maxwell_a2,
+    maxwell_a3,
+    maxwell_steady_temperature,
+    second_sonine,
+    sonine_from_moments,
+    steady_temperature,
+)
