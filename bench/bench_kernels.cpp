@@ -3,7 +3,7 @@
 
 #include <vector>
 
-#include "granboltz/dsmc/index_stream.hpp"
+#include "granboltz/random/index_stream.hpp"
 #include "granboltz/physics/collision.hpp"
 #include "granboltz/physics/heating.hpp"
 #include "granboltz/random/rng.hpp"

@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "granboltz/config/config.hpp"
+#include "granboltz/app/config.hpp"
 #include "granboltz/dsmc/ensemble.hpp"
 #include "granboltz/dsmc/run.hpp"
 #include "granboltz/random/rng.hpp"

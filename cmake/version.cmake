@@ -1,4 +1,4 @@
-# Writes granboltz/version.hpp with the current git commit; run at every build (the file is
+# Writes granboltz/core/version.hpp with the current git commit; run at every build (the file is
 # rewritten only when its content changes, so nothing recompiles needlessly).
 execute_process(COMMAND git rev-parse --short=12 HEAD WORKING_DIRECTORY ${SOURCE_DIR}
                 OUTPUT_VARIABLE GRANBOLTZ_GIT_SHA OUTPUT_STRIP_TRAILING_WHITESPACE ERROR_QUIET)
@@ -9,4 +9,4 @@ if(NOT GRANBOLTZ_GIT_SHA)
 elseif(_dirty)
   set(GRANBOLTZ_GIT_SHA "${GRANBOLTZ_GIT_SHA}-dirty")
 endif()
-configure_file(${SOURCE_DIR}/src/granboltz/version.hpp.in ${OUTPUT} @ONLY)
+configure_file(${SOURCE_DIR}/src/granboltz/core/version.hpp.in ${OUTPUT} @ONLY)

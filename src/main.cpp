@@ -9,14 +9,14 @@
 #include <new>
 #include <unistd.h>
 
-#include "granboltz/config/config.hpp"
-#include "granboltz/io/hdf5_io.hpp"
-#include "granboltz/io/merge.hpp"
-#include "granboltz/io/verify.hpp"
-#include "granboltz/driver/estimate.hpp"
-#include "granboltz/driver/run.hpp"
-#include "granboltz/stats/gsl_errors.hpp"
-#include "granboltz/version.hpp"
+#include "granboltz/app/config.hpp"
+#include "granboltz/h5/hdf5_io.hpp"
+#include "granboltz/app/merge.hpp"
+#include "granboltz/h5/verify.hpp"
+#include "granboltz/app/estimate.hpp"
+#include "granboltz/app/run.hpp"
+#include "granboltz/core/gsl_errors.hpp"
+#include "granboltz/core/version.hpp"
 
 namespace {
 

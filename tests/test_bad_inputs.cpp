@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-#include "granboltz/io/hdf5_io.hpp"
+#include "granboltz/h5/hdf5_io.hpp"
 #include "test_support.hpp"
 
 extern char** environ;

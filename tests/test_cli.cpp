@@ -1,7 +1,7 @@
 // The command line: reproducibility across thread counts, and clear errors for bad input.
 #include <gtest/gtest.h>
 
-#include "granboltz/io/hdf5_io.hpp"
+#include "granboltz/h5/hdf5_io.hpp"
 #include "test_support.hpp"
 
 using granboltz::H5Reader;

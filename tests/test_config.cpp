@@ -1,7 +1,7 @@
 // Config parsing: defaults made explicit, overrides, and errors that name the key.
 #include <gtest/gtest.h>
 
-#include "granboltz/config/config.hpp"
+#include "granboltz/app/config.hpp"
 #include "test_support.hpp"
 
 using namespace granboltz;

@@ -8,9 +8,9 @@
 #include <cstdlib>
 #include <filesystem>
 
-#include "granboltz/driver/estimate.hpp"
-#include "granboltz/driver/run.hpp"
-#include "granboltz/io/hdf5_io.hpp"
+#include "granboltz/app/estimate.hpp"
+#include "granboltz/app/run.hpp"
+#include "granboltz/h5/hdf5_io.hpp"
 #include "test_support.hpp"
 
 using granboltz::test::run_granboltz;

@@ -11,7 +11,7 @@
 #include <random>
 #include <thread>
 
-#include "granboltz/io/hdf5_io.hpp"
+#include "granboltz/h5/hdf5_io.hpp"
 #include "test_support.hpp"
 
 using granboltz::H5Reader;

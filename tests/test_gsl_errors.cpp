@@ -8,7 +8,7 @@
 #include <cmath>
 #include <string>
 
-#include "granboltz/stats/gsl_errors.hpp"
+#include "granboltz/core/gsl_errors.hpp"
 #include "granboltz/tv06/needle.hpp"
 #include "test_support.hpp"
 

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "granboltz/config/config.hpp"
+#include "granboltz/app/config.hpp"
 #include "granboltz/dsmc/run.hpp"
 #include "test_support.hpp"
 

@@ -17,7 +17,7 @@
 #include <set>
 #include <thread>
 
-#include "granboltz/io/hdf5_io.hpp"
+#include "granboltz/h5/hdf5_io.hpp"
 #include "test_support.hpp"
 
 using granboltz::H5Reader;

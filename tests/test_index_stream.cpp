@@ -7,7 +7,7 @@
 #include <array>
 #include <vector>
 
-#include "granboltz/dsmc/index_stream.hpp"
+#include "granboltz/random/index_stream.hpp"
 #include "granboltz/random/rng.hpp"
 
 using namespace granboltz;

@@ -12,7 +12,7 @@
 #include <utility>
 #include <thread>
 
-#include "granboltz/config/config.hpp"
+#include "granboltz/app/config.hpp"
 #include "granboltz/dsmc/ensemble.hpp"
 #include "granboltz/dsmc/particles.hpp"
 

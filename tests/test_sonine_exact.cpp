@@ -10,7 +10,7 @@
 #include <cmath>
 #include <string>
 
-#include "granboltz/io/hdf5_io.hpp"
+#include "granboltz/h5/hdf5_io.hpp"
 #include "test_support.hpp"
 
 using namespace granboltz;

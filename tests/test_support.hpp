@@ -17,9 +17,9 @@
 #include <thread>
 #include <vector>
 
-#include "granboltz/config/config.hpp"
+#include "granboltz/app/config.hpp"
 #include "granboltz/dsmc/run.hpp"
-#include "granboltz/io/hdf5_io.hpp"
+#include "granboltz/h5/hdf5_io.hpp"
 #include "granboltz/dsmc/observables.hpp"
 
 namespace granboltz::test {

@@ -4,8 +4,8 @@
 
 #include <string>
 
-#include "granboltz/config/config.hpp"
-#include "granboltz/io/hdf5_io.hpp"
+#include "granboltz/app/config.hpp"
+#include "granboltz/h5/hdf5_io.hpp"
 #include "test_support.hpp"
 
 using namespace granboltz;

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "granboltz/config/config.hpp"
+#include "granboltz/app/config.hpp"
 #include "test_support.hpp"
 
 using namespace granboltz;

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "granboltz/config/config.hpp"
+#include "granboltz/app/config.hpp"
 
 namespace {
 

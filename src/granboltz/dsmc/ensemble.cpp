@@ -3,12 +3,12 @@
 #include <algorithm>
 #include <cmath>
 
-#include "granboltz/hot.hpp"
+#include "granboltz/core/hot.hpp"
 #include "granboltz/physics/collision.hpp"
 #include "granboltz/physics/heating.hpp"
 #include "granboltz/random/samplers.hpp"
-#include "granboltz/io/engine_io.hpp"
-#include "granboltz/io/particles_io.hpp"
+#include "granboltz/record/engine_io.hpp"
+#include "granboltz/dsmc/particles_io.hpp"
 
 namespace granboltz {
 

@@ -7,10 +7,10 @@
 #include <cstdint>
 #include <vector>
 
-#include "granboltz/dsmc/index_stream.hpp"
+#include "granboltz/random/index_stream.hpp"
 #include "granboltz/dsmc/config.hpp"
-#include "granboltz/driver/ensemble_driver.hpp"
-#include "granboltz/io/hdf5_io.hpp"
+#include "granboltz/exec/ensemble_pool.hpp"
+#include "granboltz/h5/hdf5_io.hpp"
 #include "granboltz/dsmc/particles.hpp"
 #include "granboltz/random/rng.hpp"
 

@@ -5,7 +5,7 @@
 #include <new>
 #include <vector>
 
-#include "granboltz/physics/vec3.hpp"
+#include "granboltz/core/vec3.hpp"
 
 namespace granboltz {
 

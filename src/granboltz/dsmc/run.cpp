@@ -10,6 +10,7 @@
 
 #include <gsl/gsl_cdf.h>
 
+#include "granboltz/config/reader.hpp"
 #include "granboltz/dsmc/ensemble.hpp"
 #include "granboltz/dsmc/observables.hpp"
 #include "granboltz/dsmc/weighted.hpp"
@@ -65,7 +66,7 @@ void add_cross(Moments2* out, const double* M, std::uint64_t P) {
 }
 }  // namespace
 
-Record dsmc_layout(const Config& config) {
+Record dsmc_layout(const DsmcRunConfig& config) {
   const DsmcConfig& d = config.dsmc;
   const std::uint64_t rows = d.observations() + 1;
   Record r;
@@ -251,7 +252,7 @@ void add_steady_blocks(const DsmcConfig& d, const std::vector<double>& times, co
 
 }  // namespace
 
-void run_dsmc(const Config& config, const DriverOptions& options, Record& record) {
+void run_dsmc(const DsmcRunConfig& config, const DriverOptions& options, Record& record) {
   const DsmcConfig& d = config.dsmc;
   const std::vector<double> times = dsmc_times(d);
   const std::uint64_t rows = times.size();
@@ -476,7 +477,7 @@ void write_observable(H5Writer& out, const std::string& prefix, const Observable
 /// The /steady group of one observable: mean, ci, variance as write_observable, plus sigma and
 /// the estimator's attributes (the largest tau_int over the components, the smallest N_eff).
 /// With steady_ci: independent the batch estimator's sigma and ci follow in a `batch` subgroup.
-void write_steady_observable(H5Writer& out, const Config& config, const Record& record,
+void write_steady_observable(H5Writer& out, const DsmcRunConfig& config, const Record& record,
                              const ObservableInfo& o, std::uint64_t base) {
   const int size = observable_size(o);
   const std::string g = "/steady/" + std::string(o.name);
@@ -632,7 +633,7 @@ const char* const kA3Description =
     "speed moments (d = 3); ci by the delta method over the ensembles; bias: the ratio "
     "estimator's leading 1/N bias (second-order delta method), not subtracted from mean";
 
-void write_sonine(H5Writer& out, const Config& config, const Record& record) {
+void write_sonine(H5Writer& out, const DsmcRunConfig& config, const Record& record) {
   const DsmcConfig& d = config.dsmc;
   const auto P = static_cast<std::uint64_t>(d.moments);
   const std::uint64_t C = cross_pairs(P), N = record.ensembles();
@@ -681,7 +682,7 @@ void write_sonine(H5Writer& out, const Config& config, const Record& record) {
 
 }  // namespace
 
-SteadyStats steady_stats(const Config& config, const Record& record, std::uint64_t k,
+SteadyStats steady_stats(const DsmcRunConfig& config, const Record& record, std::uint64_t k,
                          bool batch) {
   const DsmcConfig& d = config.dsmc;
   const auto P = static_cast<std::uint64_t>(d.moments);
@@ -751,7 +752,7 @@ namespace {
 
 /// A histogram's /<name> group (edges, mean, ci, counts per row) and, with steady_from, its
 /// /steady/<name> group, from the accumulators <name>, <name>_steady and, for SWPM, <name>_weight.
-void write_histogram(H5Writer& out, const Config& config, const Record& record,
+void write_histogram(H5Writer& out, const DsmcRunConfig& config, const Record& record,
                      const std::string& name, const std::vector<double>& edges,
                      const char* description) {
   const DsmcConfig& d = config.dsmc;
@@ -802,7 +803,7 @@ void write_histogram(H5Writer& out, const Config& config, const Record& record,
 
 }  // namespace
 
-void present_dsmc(H5Writer& out, const Config& config, const Record& record) {
+void present_dsmc(H5Writer& out, const DsmcRunConfig& config, const Record& record) {
   const DsmcConfig& d = config.dsmc;
   const std::vector<double> times = dsmc_times(d);
   const std::uint64_t rows = times.size(), N = record.ensembles();

@@ -1,21 +1,27 @@
 #pragma once
 // A DSMC run: N independent ensembles observed at t_m = m * observe_every, combined into means
 // and confidence intervals (GRW05 §5.1), optionally with steady-state time averages (RW05 §4.2).
-#include "granboltz/config/config.hpp"
-#include "granboltz/driver/ensemble_driver.hpp"
-#include "granboltz/io/hdf5_io.hpp"
-#include "granboltz/io/record.hpp"
+#include "granboltz/dsmc/config.hpp"
+#include "granboltz/exec/ensemble_pool.hpp"
+#include "granboltz/exec/run_frame.hpp"
+#include "granboltz/h5/hdf5_io.hpp"
+#include "granboltz/record/record.hpp"
 
 namespace granboltz {
 
+/// What a DSMC run reads of its config: the frame and the `dsmc:` section.
+struct DsmcRunConfig : RunFrame {
+  DsmcConfig dsmc;
+};
+
 /// The record of a DSMC run of this config, empty.
-Record dsmc_layout(const Config& config);
+Record dsmc_layout(const DsmcRunConfig& config);
 
 /// Runs the ensembles of this shard that `record` does not hold yet, adding them to it.
-void run_dsmc(const Config& config, const DriverOptions& options, Record& record);
+void run_dsmc(const DsmcRunConfig& config, const DriverOptions& options, Record& record);
 
 /// Writes the datasets a user reads (docs/output.md), computed from the record only.
-void present_dsmc(H5Writer& out, const Config& config, const Record& record);
+void present_dsmc(H5Writer& out, const DsmcRunConfig& config, const Record& record);
 
 /// The observation times t_m, m = 0..M.
 std::vector<double> dsmc_times(const DsmcConfig& d);
@@ -38,7 +44,7 @@ struct SteadyStats {
   const char* estimator = "independent";  ///< "ensembles" | "blocking" | "independent"
 };
 /// `batch`: the batch estimator even where the config asks for steady_ci: independent.
-SteadyStats steady_stats(const Config& config, const Record& record, std::uint64_t k,
+SteadyStats steady_stats(const DsmcRunConfig& config, const Record& record, std::uint64_t k,
                          bool batch = false);
 
 /// The observation rows t_m > steady_from in each ensemble.

@@ -1,7 +1,7 @@
 #pragma once
 // The inelastic collision map of GRW05 eq. (4) / RW05 eq. (4).
-#include "granboltz/hot.hpp"
-#include "granboltz/physics/vec3.hpp"
+#include "granboltz/core/hot.hpp"
+#include "granboltz/core/vec3.hpp"
 
 namespace granboltz {
 

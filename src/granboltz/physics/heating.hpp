@@ -2,9 +2,9 @@
 // The white-noise heating of GRW05 eq. (23): Brownian motion of a velocity over a time s.
 #include <cmath>
 
-#include "granboltz/hot.hpp"
+#include "granboltz/core/hot.hpp"
 #include "granboltz/random/samplers.hpp"
-#include "granboltz/physics/vec3.hpp"
+#include "granboltz/core/vec3.hpp"
 
 namespace granboltz {
 

@@ -5,9 +5,9 @@
 #include <cmath>
 #include <cstdint>
 
-#include "granboltz/hot.hpp"
-#include "granboltz/stats/int128.hpp"
-#include "granboltz/physics/vec3.hpp"
+#include "granboltz/core/hot.hpp"
+#include "granboltz/core/int128.hpp"
+#include "granboltz/core/vec3.hpp"
 
 namespace granboltz {
 

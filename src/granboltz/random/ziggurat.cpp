@@ -11,7 +11,7 @@
 #include <string>
 
 #include "granboltz/random/samplers.hpp"
-#include "granboltz/stats/gsl_errors.hpp"
+#include "granboltz/core/gsl_errors.hpp"
 
 namespace granboltz::detail {
 namespace {

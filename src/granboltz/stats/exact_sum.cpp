@@ -1,6 +1,6 @@
 #include "granboltz/stats/exact_sum.hpp"
 
-#include "granboltz/stats/int128.hpp"
+#include "granboltz/core/int128.hpp"
 
 #include <cmath>
 #include <stdexcept>

@@ -4,7 +4,7 @@
 // functions; the event loops run one ensemble and return its time averages.
 #include <cstdint>
 
-#include "granboltz/driver/ensemble_driver.hpp"
+#include "granboltz/exec/ensemble_pool.hpp"
 #include "granboltz/tv06/bath.hpp"
 #include "granboltz/tv06/config.hpp"
 #include "granboltz/tv06/observe.hpp"

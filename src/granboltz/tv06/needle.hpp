@@ -12,7 +12,7 @@
 #include <utility>
 #include <vector>
 
-#include "granboltz/driver/ensemble_driver.hpp"
+#include "granboltz/exec/ensemble_pool.hpp"
 #include "granboltz/tv06/bath.hpp"
 #include "granboltz/tv06/config.hpp"
 #include "granboltz/tv06/observe.hpp"

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "granboltz/stats/gsl_errors.hpp"
+#include "granboltz/core/gsl_errors.hpp"
 #include "granboltz/stats/statistics.hpp"
 #include "granboltz/tv06/intruder.hpp"
 #include "granboltz/tv06/needle.hpp"
@@ -102,7 +102,7 @@ void write_scalar_dataset(H5Writer& out, const std::string& path, double value,
 // Runs `simulate(e, slot)` for the ensembles of the shard missing from `record` and adds each
 // result with `add(result, e)` under a lock.
 template <class Simulate, class Add>
-void run_missing(const Config& config, const DriverOptions& options, Record& record,
+void run_missing(const Tv06RunConfig& config, const DriverOptions& options, Record& record,
                  Simulate simulate, Add add) {
   std::vector<std::uint64_t> todo;
   for (std::uint64_t e = config.first_ensemble(); e < config.last_ensemble(); ++e)
@@ -123,7 +123,7 @@ void run_missing(const Config& config, const DriverOptions& options, Record& rec
 
 }  // namespace
 
-Record tv06_layout(const Config& config) {
+Record tv06_layout(const Tv06RunConfig& config) {
   Record r;
   if (config.model == Model::kIntruder) {
     const IntruderConfig& c = config.intruder;
@@ -168,7 +168,7 @@ void add_finite(Record& record, const std::string& name, double value, std::uint
 }
 }  // namespace
 
-void run_tv06(const Config& config, const DriverOptions& options, Record& record) {
+void run_tv06(const Tv06RunConfig& config, const DriverOptions& options, Record& record) {
   install_gsl_error_handler();
   if (config.model == Model::kIntruder) {
     const IntruderConfig& c = config.intruder;
@@ -213,7 +213,7 @@ void run_tv06(const Config& config, const DriverOptions& options, Record& record
   }
 }
 
-void present_tv06(H5Writer& out, const Config& config, const Record& record) {
+void present_tv06(H5Writer& out, const Tv06RunConfig& config, const Record& record) {
   out.attr("/", "confidence_lambda_p", kLambdaP);
   if (config.model == Model::kIntruder) {
     const IntruderConfig& c = config.intruder;
@@ -252,7 +252,7 @@ void present_tv06(H5Writer& out, const Config& config, const Record& record) {
   }
 }
 
-double tv06_memory_estimate(const Config& config, unsigned threads) {
+double tv06_memory_estimate(const Tv06RunConfig& config, unsigned threads) {
   const double t = threads;
   const double N = static_cast<double>(config.last_ensemble() - config.first_ensemble());
   double bins = 0.0, per_thread = 512.0 * 1024;  // event loop state, GSL workspaces

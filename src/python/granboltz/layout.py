@@ -2,8 +2,8 @@
 datasets every output has with their dtypes and shapes, and the readers that check a dataset or
 an attribute against it and raise RunReadError naming the file and the object.
 
-What the simulator writes: src/granboltz/io/output.cpp (root and provenance attributes),
-io/record.cpp (accumulators, events), dsmc/run.cpp (present_dsmc, dsmc_layout), tv06/run.cpp
+What the simulator writes: src/granboltz/app/output.cpp (root and provenance attributes),
+record/record.cpp (accumulators, events), dsmc/run.cpp (present_dsmc, dsmc_layout), tv06/run.cpp
 (present_tv06, tv06_layout); docs/output.md and docs/tv06.md describe it.
 """
 

@@ -17,7 +17,7 @@ anything that is not a complete output it can read: a file HDF5 cannot open or r
 truncated, a checksum failure), a checkpoint, an HDF5 file of another program, and a dataset or
 attribute that every output of the file's model (and config) has but this file lacks, or has with
 the wrong shape, dtype or non-finite values. The layout checked is what the simulator writes
-(src/granboltz/io/output.cpp, dsmc/run.cpp, tv06/run.cpp; docs/output.md, docs/tv06.md). A
+(src/granboltz/app/output.cpp, dsmc/run.cpp, tv06/run.cpp; docs/output.md, docs/tv06.md). A
 shard must have all of it too, for its own ensembles.
 """
 

@@ -121,7 +121,7 @@ def sonine_from_moments(M2, M4, M6=None, d=3):
 
 # ----------------------------------------------------------------------------- temperature
 def cooling_rate(T, alpha, gamma, C, kernel_lambda, a2=0.0, n=None):
-    """zeta(T) of dT/dt = 2 beta - zeta T, d = 3 (the simulator's estimate, driver/estimate.cpp):
+    """zeta(T) of dT/dt = 2 beta - zeta T, d = 3 (the simulator's estimate, app/estimate.cpp):
     zeta T = pi gamma C (1 - alpha^2)/6 * E|u|^(2+lambda), u = v - w with variance 2T per
     component, so zeta = pi gamma C (1 - alpha^2) 4^(lambda/2) Gamma((5+lambda)/2)/Gamma(5/2)
     T^(lambda/2) [exact for lambda = 0, GRW05 eq. 16; Maxwellian approx otherwise: 16/3 sqrt(pi)

@@ -1,5 +1,5 @@
 // The recording GSL error handler (gsl_errors.hpp).
-#include "granboltz/stats/gsl_errors.hpp"
+#include "granboltz/core/gsl_errors.hpp"
 
 #include <gsl/gsl_errno.h>
 

@@ -3,8 +3,8 @@
 #include <cstdint>
 #include <string>
 
-#include "granboltz/config/config.hpp"
-#include "granboltz/driver/ensemble_driver.hpp"
+#include "granboltz/app/config.hpp"
+#include "granboltz/exec/ensemble_pool.hpp"
 
 namespace granboltz {
 

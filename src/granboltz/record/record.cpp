@@ -1,4 +1,4 @@
-#include "granboltz/io/record.hpp"
+#include "granboltz/record/record.hpp"
 
 #include <stdexcept>
 

@@ -1,4 +1,4 @@
-#include "granboltz/io/hdf5_io.hpp"
+#include "granboltz/h5/hdf5_io.hpp"
 
 #include <fcntl.h>
 #include <sys/file.h>

@@ -4,9 +4,9 @@
 #include <map>
 #include <string>
 
-#include "granboltz/config/config.hpp"
-#include "granboltz/io/hdf5_io.hpp"
-#include "granboltz/io/record.hpp"
+#include "granboltz/app/config.hpp"
+#include "granboltz/h5/hdf5_io.hpp"
+#include "granboltz/record/record.hpp"
 
 namespace granboltz {
 

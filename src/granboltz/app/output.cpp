@@ -1,8 +1,8 @@
-#include "granboltz/io/output.hpp"
+#include "granboltz/app/output.hpp"
 
 #include "granboltz/dsmc/run.hpp"
 #include "granboltz/tv06/run.hpp"
-#include "granboltz/version.hpp"
+#include "granboltz/core/version.hpp"
 
 namespace granboltz {
 

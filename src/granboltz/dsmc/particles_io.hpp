@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "granboltz/dsmc/particles.hpp"
-#include "granboltz/io/hdf5_io.hpp"
+#include "granboltz/h5/hdf5_io.hpp"
 
 namespace granboltz {
 

@@ -1,4 +1,4 @@
-#include "granboltz/driver/run.hpp"
+#include "granboltz/app/run.hpp"
 
 #include <signal.h>
 #include <sys/stat.h>
@@ -14,16 +14,16 @@
 #include <functional>
 #include <limits>
 
-#include "granboltz/driver/estimate.hpp"
+#include "granboltz/app/estimate.hpp"
 #include "granboltz/dsmc/run.hpp"
 #include "granboltz/stats/exact_sum.hpp"
-#include "granboltz/io/hdf5_io.hpp"
+#include "granboltz/h5/hdf5_io.hpp"
 #include "granboltz/dsmc/observables.hpp"
-#include "granboltz/io/output.hpp"
-#include "granboltz/io/verify.hpp"
+#include "granboltz/app/output.hpp"
+#include "granboltz/h5/verify.hpp"
 #include "granboltz/dsmc/particles.hpp"
 #include "granboltz/tv06/run.hpp"
-#include "granboltz/version.hpp"
+#include "granboltz/core/version.hpp"
 
 namespace granboltz {
 
@@ -147,7 +147,7 @@ std::uint64_t estimate_memory(const Config& config, unsigned threads) {
     bytes += rows * scalars * 2.0 * sizeof(ExactSum) * 2.0;  // accumulators and output copy
     bytes += rows * shells * 24.0 * 2.0;
     bytes += static_cast<double>(config.last_ensemble() - config.first_ensemble()) * 200.0;
-    // A checkpoint is built in memory (io/hdf5_io.cpp): 32 bytes per particle in progress, and
+    // A checkpoint is built in memory (h5/hdf5_io.cpp): 32 bytes per particle in progress, and
     // a copy while it is written out.
     if (config.checkpoint.every_seconds > 0)
       bytes += 2.0 * t * static_cast<double>(d.particles) * 32.0 +

@@ -1,4 +1,4 @@
-#include "granboltz/io/verify.hpp"
+#include "granboltz/h5/verify.hpp"
 
 #include <fcntl.h>
 #include <signal.h>
@@ -9,7 +9,7 @@
 #include <cstring>
 #include <stdexcept>
 
-#include "granboltz/io/hdf5_io.hpp"
+#include "granboltz/h5/hdf5_io.hpp"
 
 namespace granboltz {
 

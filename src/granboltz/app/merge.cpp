@@ -1,11 +1,11 @@
-#include "granboltz/io/merge.hpp"
+#include "granboltz/app/merge.hpp"
 
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 
-#include "granboltz/io/output.hpp"
-#include "granboltz/io/verify.hpp"
+#include "granboltz/app/output.hpp"
+#include "granboltz/h5/verify.hpp"
 
 namespace granboltz {
 

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "granboltz/io/hdf5_io.hpp"
+#include "granboltz/h5/hdf5_io.hpp"
 #include "granboltz/random/rng.hpp"
 
 namespace granboltz {

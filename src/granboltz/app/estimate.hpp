@@ -20,7 +20,7 @@
 #include <cstdint>
 #include <string>
 
-#include "granboltz/config/config.hpp"
+#include "granboltz/app/config.hpp"
 
 namespace granboltz {
 

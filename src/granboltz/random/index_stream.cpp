@@ -1,6 +1,6 @@
 // Vector arguments of the inline xoshiro step below cross no ABI boundary.
 #pragma GCC diagnostic ignored "-Wpsabi"
-#include "granboltz/dsmc/index_stream.hpp"
+#include "granboltz/random/index_stream.hpp"
 
 #include <cstring>
 

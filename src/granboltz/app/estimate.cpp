@@ -1,4 +1,4 @@
-#include "granboltz/driver/estimate.hpp"
+#include "granboltz/app/estimate.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -16,8 +16,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "granboltz/driver/ensemble_driver.hpp"
-#include "granboltz/driver/run.hpp"
+#include "granboltz/exec/ensemble_pool.hpp"
+#include "granboltz/app/run.hpp"
 #include "granboltz/dsmc/observables.hpp"
 #include "granboltz/dsmc/run.hpp"
 #include "granboltz/dsmc/weighted.hpp"

@@ -5,42 +5,22 @@
 #include <vector>
 
 #include "granboltz/config/reader.hpp"
-#include "granboltz/dsmc/config.hpp"
-#include "granboltz/stats/int128.hpp"
-#include "granboltz/tv06/config.hpp"
+#include "granboltz/dsmc/run.hpp"
+#include "granboltz/exec/run_frame.hpp"
+#include "granboltz/tv06/run.hpp"
 
 namespace granboltz {
 
-enum class Model { kDsmc, kIntruder, kNeedle };
-
-/// Which ensembles of the run this process computes: [begin, end) of ensembles.
-struct Shard {
-  std::uint64_t index = 0;
-  std::uint64_t count = 1;
-};
-
-struct CheckpointSpec {
-  double every_seconds = 0.0;  ///< 0: no checkpoints
-};
-
-struct Config {
-  Model model = Model::kDsmc;
-  std::uint64_t seed = 0;
-  std::uint64_t ensembles = 1;
-  unsigned threads = 0;  ///< 0: all hardware threads; never changes results
-  Shard shard;
-  CheckpointSpec checkpoint;
+/// A run config: the frame and a section per model (parse_config fills its model's only).
+struct Config : RunFrame {
   DsmcConfig dsmc;
   IntruderConfig intruder;
   NeedleConfig needle;
 
-  /// The ensembles this shard runs: [first, last) (in 128 bits: N * index may exceed 2^64).
-  std::uint64_t first_ensemble() const {
-    return static_cast<std::uint64_t>(uint128{ensembles} * shard.index / shard.count);
-  }
-  std::uint64_t last_ensemble() const {
-    return static_cast<std::uint64_t>(uint128{ensembles} * (shard.index + 1) / shard.count);
-  }
+  /// What a model's run reads, copied: the frame and its own section. The models sit below
+  /// this file, so they cannot take a Config.
+  operator DsmcRunConfig() const { return {*this, dsmc}; }
+  operator Tv06RunConfig() const { return {*this, intruder, needle}; }
 
   /// The complete config with every default made explicit. With physics_only, the keys that
   /// cannot change results (threads, shard, checkpoint) are left out: this text is what every

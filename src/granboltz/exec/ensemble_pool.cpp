@@ -1,4 +1,4 @@
-#include "granboltz/driver/ensemble_driver.hpp"
+#include "granboltz/exec/ensemble_pool.hpp"
 
 #include <chrono>
 #include <condition_variable>

@@ -1,5 +1,5 @@
 // Top level of a run config: model, seed, ensembles, execution keys; dispatch to the sections.
-#include "granboltz/config/config.hpp"
+#include "granboltz/app/config.hpp"
 
 #include <yaml-cpp/yaml.h>
 
