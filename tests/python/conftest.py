@@ -125,8 +125,9 @@ def write_fake_scheme_run(path, n, scheme, K, N=100, t_end=8.0, rel_ci=0.001):
 
 
 def write_fake_steady_run(path, n, scheme="nosplit", K=None, T_inf=2.67, ci=0.004, wall=1.0, beta=1.0,
-                          events=(1000, 0, 3000), series=None, N=1):
-    """A steady-state run of RW05 §4.2 (t_end = 136, observe_every = 2, steady_from = 8)."""
+                          events=(1000, 0, 3000), series=None, N=1, batch=None):
+    """A steady-state run of RW05 §4.2 (t_end = 136, observe_every = 2, steady_from = 8); batch =
+    (ci, sigma[, tau_int]): the batch subgroup of steady_ci: independent (blocking) of T_inf."""
     time = np.arange(0.0, 136.0 + 1.0, 2.0)
     dsmc = dict(RW05, beta=beta, particles=n, scheme=scheme, initial={"temperature": 1.0}, t_end=136.0,
                 observe_every=2.0, steady_from=8.0)
@@ -141,6 +142,12 @@ def write_fake_steady_run(path, n, scheme="nosplit", K=None, T_inf=2.67, ci=0.00
         f["temperature/mean"] = s
         f["steady/temperature_uncentred/mean"] = T_inf
         f["steady/temperature_uncentred/ci"] = ci
+        if batch is not None:
+            f["steady/temperature_uncentred"].attrs["estimator"] = "independent"
+            f["steady/temperature_uncentred/batch/ci"], f["steady/temperature_uncentred/batch/sigma"] = batch[:2]
+            f["steady/temperature_uncentred/batch"].attrs["estimator"] = "blocking"
+            if len(batch) > 2:
+                f["steady/temperature_uncentred/batch"].attrs["tau_int"] = batch[2]
         f["steady/temperature/mean"] = T_inf - 0.001
         for key, value in zip(("collisions", "fictitious", "kicks"), events):
             f[f"events/{key}"] = np.full(N, value, dtype=np.uint64)

@@ -74,6 +74,69 @@ def test_read_run_gives_a2_a3_and_the_steady_sigma(tmp_path):
         assert f["steady/temperature/sigma"].shape == ()
 
 
+def test_steady_averages_carry_sigma_and_their_estimator(dsmc_file):
+    run = read_run(dsmc_file)  # N = 4 < 10 ensembles: blocking (steady_ci: batch by default)
+    s = run.steady["temperature"]
+    with h5py.File(dsmc_file, "r") as f:
+        g = f["steady/temperature"]
+        assert s.sigma == g["sigma"][()] and s.tau_int == g.attrs["tau_int"] and s.block_rows == g.attrs["block_rows"]
+        assert s.effective_samples == pytest.approx(g["variance"][()] / g["sigma"][()] ** 2, rel=1e-12)
+    assert s.estimator == "blocking" and s.batch is None and s.sigma > 0
+    assert np.shape(run.steady["bulk_velocity"].sigma) == (3,)
+    assert run.temperature.sigma is None and run.temperature.estimator is None and run.temperature.batch is None
+    assert run.steady["histogram"].sigma is None  # the histogram's interval is over the ensembles, no sigma
+
+
+INDEPENDENT = {**TINY, "ensembles": 12,
+               "dsmc": {**TINY["dsmc"], "t_end": 2.0, "moments": 3, "steady_ci": "independent",
+                        "histogram": {"shells": 16, "radius": 8.0, "component": True}}}
+
+
+def test_an_independent_run_gives_the_batch_interval_beside_its_own(tmp_path):
+    path = simulate(tmp_path, INDEPENDENT, "independent")
+    run = read_run(path)
+    s = run.steady["temperature_uncentred"]
+    with h5py.File(path, "r") as f:
+        g, b = f["steady/temperature_uncentred"], f["steady/temperature_uncentred/batch"]
+        assert s.ci == g["ci"][()] and s.sigma == g["sigma"][()]
+        assert s.batch.ci == b["ci"][()] and s.batch.sigma == b["sigma"][()] and s.batch.tau_int == b.attrs["tau_int"]
+        samples = int(f["steady"].attrs["samples"])
+    # the papers' interval: every (ensemble, t_m) row independent, tau_int = 1/2
+    assert s.estimator == "independent" and s.tau_int == 0.5 and s.effective_samples == samples
+    assert s.sigma == pytest.approx(np.sqrt(s.variance / samples), rel=1e-12) and s.ci == pytest.approx(3.2 * s.sigma)
+    # the batch one of the same run: the spread of the 12 ensembles' time averages
+    assert s.batch.estimator == "ensembles" and s.batch.block_rows is None
+    assert s.batch.effective_samples == pytest.approx(s.variance / s.batch.sigma**2, rel=1e-12)
+    assert s.batch.tau_int == pytest.approx(s.batch.sigma**2 * samples / (2 * s.variance), rel=1e-12)
+    assert s.batch.ci > s.ci  # consecutive rows are correlated: the honest interval is wider
+    assert run.steady["a2"].estimator == "ensembles" and run.steady["a3"].sigma > 0
+    assert "batch ± " in repr(s) and "estimator: independent, batch: ensembles" in repr(run)
+
+
+def test_the_component_histogram_reads_as_a_histogram(tmp_path):
+    run = read_run(simulate(tmp_path, INDEPENDENT, "component"))
+    assert list(run.histograms) == ["histogram", "histogram_component"]
+    assert "histogram_component" not in run.observables
+    h = run.histograms["histogram_component"]
+    np.testing.assert_allclose(h["edges"], np.linspace(-8.0, 8.0, 17))
+    assert h["mean"].shape == (run.time.size, 17) and h["counts"].dtype == np.uint64
+    np.testing.assert_allclose(h["mean"].sum(axis=1), 1.0)
+    # (v - V)_x of a gas at rest is symmetric: the mean of the bin centres is near 0
+    centres = 0.5 * (h["edges"][1:] + h["edges"][:-1])
+    assert abs(np.sum(centres * h["mean"][-1, :-1])) < 0.1
+    assert run.steady["histogram_component"].mean.shape == (17,)
+    with h5py.File(run.path, "r") as f:
+        assert f["histogram"].attrs["center"] == b"bulk" and f["histogram_component"].attrs["center"] == b"bulk"
+
+
+def test_a_weighted_run_with_the_component_histogram_reads(tmp_path):
+    config = {**INDEPENDENT, "ensembles": 3,
+              "dsmc": {**INDEPENDENT["dsmc"], "weights": {"method": "swpm", "kappa": 0.25, "max_particles": 128}}}
+    run = read_run(simulate(tmp_path, config, "swpm"))
+    np.testing.assert_allclose(run.histograms["histogram_component"]["mean"].sum(axis=1), 1.0, rtol=1e-9)
+    assert run.steady["temperature"].batch.estimator == "blocking" and run.steady["temperature"].batch.block_rows >= 1
+
+
 def test_package_exposes_read_run_without_importing_it_eagerly():
     assert granboltz.read_run is read_run
     assert granboltz.RunReadError is RunReadError

@@ -2,11 +2,13 @@
 every failure is RunReadError naming the file and the dataset or attribute, never a bare
 KeyError, RuntimeError or OSError of h5py.
 
-A seeded corruption campaign over outputs of the three models made by the simulator (byte flips,
-truncations, h5py edits of datasets and attributes, garbage configs): each damaged file either
-reads with every value equal to the original's (a flip in bytes HDF5 does not use) or raises
-RunReadError. Plus checkpoints, foreign HDF5 files, a shard without /events/kicks, a text file,
-an empty file, a directory and a missing path."""
+A seeded corruption campaign over outputs of the three models made by the simulator (DSMC twice:
+steady_ci batch, and independent with its batch subgroups and the component histogram; byte
+flips, truncations, h5py edits of datasets and attributes, garbage configs): each damaged file
+either reads with every value equal to the original's (a flip in bytes HDF5 does not use) or
+raises RunReadError. Plus checkpoints, foreign HDF5 files, a shard without /events/kicks, damaged
+steady intervals and component histograms, files of older simulators, a text file, an empty
+file, a directory and a missing path."""
 
 import contextlib
 import os
@@ -29,14 +31,18 @@ from conftest import ROOT
 BINARY = os.environ.get("GRANBOLTZ_BIN", str(ROOT / "build" / "granboltz"))
 BASE = ROOT / "tests" / "bad_inputs" / "base"
 # The base configs with every optional part a model can write: histograms, steady state, exact values.
+DSMC = ["--set", "dsmc.histogram.shells=8", "--set", "dsmc.histogram.radius=5", "--set", "dsmc.steady_from=0.2"]
 SETTINGS = {
-    "dsmc": ["--set", "dsmc.histogram.shells=8", "--set", "dsmc.histogram.radius=5", "--set", "dsmc.steady_from=0.2"],
+    "dsmc": DSMC,
+    # the papers' steady interval with the batch one beside it, and the histogram of (v - V)_x
+    "dsmc_independent": DSMC + ["--set", "dsmc.steady_ci=independent", "--set", "dsmc.histogram.component=true",
+                                "--set", "dsmc.t_end=1", "--set", "dsmc.moments=2"],
     "intruder": ["--set", "intruder.histogram.bins=6", "--set", "intruder.histogram.range=3"],
     "needle": ["--set", "needle.alpha=1", "--set", "needle.velocity_histogram.bins=6",
                "--set", "needle.velocity_histogram.range=3", "--set", "needle.omega_histogram.bins=5",
                "--set", "needle.omega_histogram.range=3"],
 }
-FLIPS, TRUNCATIONS, EDITS = 22, 6, 22  # per model: 150 cases in all
+FLIPS, TRUNCATIONS, EDITS = 22, 6, 22  # per output: 200 cases in all
 
 
 def run_binary(*args, **kwargs):
@@ -52,7 +58,8 @@ def outputs(tmp_path_factory):
     paths = {}
     for model, extra in SETTINGS.items():
         paths[model] = d / f"{model}.h5"
-        run_binary("run", BASE / f"{model}.yaml", "-q", "--threads", "1", "-o", paths[model], *extra)
+        run_binary("run", BASE / f"{model.partition('_')[0]}.yaml", "-q", "--threads", "1", "-o", paths[model],
+                   *extra)
     paths["shard"] = d / "shard.h5"
     run_binary("run", BASE / "dsmc.yaml", "-q", "--threads", "1", "-o", paths["shard"],
                "--set", "shard.index=0", "--set", "shard.count=2")
@@ -64,7 +71,10 @@ def snapshot(path):
     run = read_run(path)
 
     def obs(o):
-        return {"name": o.name, "mean": o.mean, "ci": o.ci, "variance": o.variance, "per_ensemble": o.per_ensemble}
+        return {"name": o.name, "mean": o.mean, "ci": o.ci, "variance": o.variance, "per_ensemble": o.per_ensemble,
+                "sigma": o.sigma, "estimator": o.estimator, "tau_int": o.tau_int,
+                "effective_samples": o.effective_samples, "block_rows": o.block_rows,
+                "batch": None if o.batch is None else vars(o.batch)}
 
     return {"model": run.model, "config": run.config, "ensembles": run.ensembles, "time": run.time,
             "observables": {k: obs(v) for k, v in run.observables.items()},
@@ -102,9 +112,15 @@ def required_attributes(path):
         out = [("/", k) for k in ("config", "model", "seed", "ensembles", "version", "git_sha",
                                   "confidence_lambda_p")]
         out.append(("provenance", "shard"))
-        for owner, keys in (("steady", ("samples", "from")), ("steady/histogram", ("rows",)),
-                            ("histogram", ("samples",)), ("velocity_histogram", ("samples",)),
-                            ("omega_histogram", ("samples",)), ("accumulators", tuple(f["accumulators"].attrs))):
+        owners = [("steady", ("samples", "from", "estimator")), ("steady/histogram", ("rows",)),
+                  ("steady/histogram_component", ("rows",)), ("histogram", ("samples", "center")),
+                  ("histogram_component", ("center",)), ("velocity_histogram", ("samples",)),
+                  ("omega_histogram", ("samples",)), ("accumulators", tuple(f["accumulators"].attrs))]
+        # the steady intervals' attributes (block_rows, one power of 2 for another, cannot be told)
+        interval = ("estimator", "tau_int", "effective_samples", "samples", "from")
+        for name in f["steady"] if "steady" in f else ():
+            owners += [(f"steady/{name}", interval), (f"steady/{name}/batch", interval)]
+        for owner, keys in owners:
             if owner in f:
                 out += [(owner, k) for k in keys if k in f[owner].attrs]
     return out
@@ -173,6 +189,9 @@ def edit_cases(path, rng, count):
                 f[owner].attrs[key] = pick(["2/2", "x/2", "0", "1/0", "-1/2"])
             elif key == "model":
                 f.attrs[key] = {"dsmc": "needle"}.get(value.decode(), "dsmc")
+            elif key in ("estimator", "center"):  # another valid value, or text as a number
+                f[owner].attrs[key] = pick({"estimator": ["independent", "ensembles", "blocking", 7],
+                                            "center": ["bulk", "origin", 7]}[key])
             elif isinstance(value, (bytes, str)):
                 f[owner].attrs[key] = 7  # text as a number
             elif key == "confidence_lambda_p":
@@ -250,7 +269,7 @@ def test_corrupted_outputs_read_unchanged_or_raise_run_read_error(outputs, tmp_p
         tally[key] = tally.get(key, 0) + 1
     bad = [f"{label}: {result}" for label, result in results if result not in ("read", "RunReadError")]
     assert not bad, f"{len(bad)} of {len(results)} cases ({tally}):\n" + "\n".join(bad)
-    assert len(results) == 150 and tally.get("RunReadError", 0) > 100
+    assert len(results) == 50 * len(SETTINGS) and tally.get("RunReadError", 0) > 130
     assert time.monotonic() - start < 30
 
 
@@ -425,3 +444,112 @@ def test_run_read_error_is_an_os_error_and_a_value_error_and_pickles():
     assert str(err) == "out.h5: dataset /events/kicks: missing (every dsmc output has it)"
     again = pickle.loads(pickle.dumps(err))
     assert str(again) == str(err) and again.path == "out.h5" and again.name == "dataset /events/kicks"
+
+
+def _damaged(outputs, tmp_path, model, name, edit):
+    path = tmp_path / f"{name}.h5"
+    shutil.copyfile(outputs[model], path)
+    with h5py.File(path, "a") as f:
+        edit(f)
+    return path
+
+
+@pytest.mark.parametrize("name, edit, message", [
+    ("batch_ci", lambda f: f.__delitem__("steady/temperature/batch/ci"),
+     "dataset /steady/temperature/batch/ci: missing (every dsmc output with dsmc.steady_ci: independent has it)"),
+    ("batch_group", lambda f: f.__delitem__("steady/heat_flux/batch"),
+     "group /steady/heat_flux/batch: missing (every dsmc output with dsmc.steady_ci: independent has it)"),
+    ("batch_nan", lambda f: replace_dataset(f, "steady/crit/batch/sigma", np.nan),
+     "dataset /steady/crit/batch/sigma: has non-finite values"),
+    ("batch_shape", lambda f: replace_dataset(f, "steady/bulk_velocity/batch/ci", np.zeros(2)),
+     "dataset /steady/bulk_velocity/batch/ci: has shape (2,), not (3,)"),
+    ("batch_estimator", lambda f: f["steady/temperature/batch"].attrs.__setitem__("estimator", "ensembles"),
+     "attribute estimator of /steady/temperature/batch: is 'ensembles', not blocking"),
+    ("estimator", lambda f: f["steady/temperature"].attrs.__setitem__("estimator", "blocking"),
+     "attribute estimator of /steady/temperature: is 'blocking', not independent"),
+    ("tau", lambda f: f["steady/temperature/batch"].attrs.__setitem__("tau_int", 0.5),
+     "attribute tau_int of /steady/temperature/batch: is 0.5, but sigma, variance and samples give"),
+    ("neff", lambda f: f["steady/moment_4"].attrs.__delitem__("effective_samples"),
+     "attribute effective_samples of /steady/moment_4: missing (every dsmc output with dsmc.steady_ci has it)"),
+    ("samples", lambda f: f["steady/crit/batch"].attrs.__setitem__("samples", 3),
+     "attribute samples of /steady/crit/batch: is 3, but /steady says"),
+    ("block_rows", lambda f: f["steady/crit/batch"].attrs.__setitem__("block_rows", 3),
+     "attribute block_rows of /steady/crit/batch: is 3, not a power of 2"),
+    ("sigma", lambda f: f.__delitem__("steady/temperature/sigma"),
+     "dataset /steady/temperature/sigma: missing (every dsmc output with dsmc.steady_ci has it)"),
+    ("a2", lambda f: f.__delitem__("steady/a2/sigma"),
+     "dataset /steady/a2/sigma: missing (every dsmc output with dsmc.steady_from and dsmc.moments >= 2 has it)"),
+    # the per-ensemble sums go with the batch subgroups they were written for
+    ("ensemble_sums", lambda f: f.__delitem__("accumulators/steady_ensemble"),
+     "dataset /accumulators/steady_ensemble: missing (every dsmc output with dsmc.steady_ci has it)"),
+    ("component", lambda f: f.__delitem__("histogram_component/mean"),
+     "dataset /histogram_component/mean: missing (every dsmc output with dsmc.histogram.component has it)"),
+    ("component_acc", lambda f: replace_dataset(f, "accumulators/histogram_component_steady",
+                                                f["accumulators/histogram_component_steady"][1:]),
+     "dataset /accumulators/histogram_component_steady: has shape (8, 2, 72), not (9, 2, 72)"),
+    ("component_rows", lambda f: f["steady/histogram_component"].attrs.__delitem__("rows"),
+     "attribute rows of /steady/histogram_component: missing"),
+    ("center", lambda f: f["histogram"].attrs.__setitem__("center", "origin"),
+     "attribute center of /histogram: is 'origin', not 'bulk'"),
+    ("component_center", lambda f: f["histogram_component"].attrs.__delitem__("center"),
+     "attribute center of /histogram_component: missing (every dsmc output with dsmc.histogram.component has it)"),
+])
+def test_damaged_intervals_and_component_histograms_are_named(outputs, tmp_path, name, edit, message):
+    read_run(outputs["dsmc_independent"])  # the undamaged file reads
+    expect_error(_damaged(outputs, tmp_path, "dsmc_independent", name, edit), message)
+
+
+def test_a_batch_run_needs_its_sigma_and_per_ensemble_sums(outputs, tmp_path):
+    expect_error(_damaged(outputs, tmp_path, "dsmc", "sigma", lambda f: f.__delitem__("steady/temperature/sigma")),
+                 "dataset /steady/temperature/sigma: missing (every dsmc output with dsmc.steady_ci has it)")
+    expect_error(_damaged(outputs, tmp_path, "dsmc", "blocks", lambda f: f.__delitem__("accumulators/steady_blocks")),
+                 "dataset /accumulators/steady_blocks: missing (every dsmc output with dsmc.steady_ci has it)")
+    expect_error(_damaged(outputs, tmp_path, "dsmc", "ind", lambda f: f["steady/density"].attrs.__setitem__(
+        "estimator", "independent")), "attribute estimator of /steady/density: is 'independent', not blocking")
+
+
+def test_files_of_older_simulators_still_read(outputs, tmp_path):
+    # before the batch subgroups: an independent run without them or the per-ensemble sums
+    def older(f):
+        for name in list(f["steady"]):
+            if "batch" in f[f"steady/{name}"]:
+                del f[f"steady/{name}/batch"]
+        for name in ("steady_ensemble", "steady_blocks", "steady_moment_cross"):
+            del f[f"accumulators/{name}"]
+        del f["steady/a2"]
+    run = read_run(_damaged(outputs, tmp_path, "dsmc_independent", "older", older))
+    assert run.steady["temperature"].batch is None and run.steady["temperature"].estimator == "independent"
+    assert "a2" not in run.steady
+
+    # before the estimators: no steady_ci in the config, no sigma
+    def oldest(f):
+        config = yaml.safe_load(f.attrs["config"])
+        del config["dsmc"]["steady_ci"], config["dsmc"]["histogram"]["center"]
+        f.attrs["config"] = yaml.safe_dump(config)
+        for name in list(f["steady"]):
+            group = f[f"steady/{name}"]
+            for key in ("sigma",):
+                if key in group:
+                    del group[key]
+            for key in ("estimator", "tau_int", "effective_samples", "block_rows"):
+                if key in group.attrs:
+                    del group.attrs[key]
+        del f["steady"].attrs["estimator"], f["histogram"].attrs["center"]
+        for name in ("steady_ensemble", "steady_blocks", "steady_moment_cross"):
+            del f[f"accumulators/{name}"]
+        del f["steady/a2"], f["steady/a3"]
+    run = read_run(_damaged(outputs, tmp_path, "dsmc", "oldest", oldest))
+    assert run.steady["temperature"].sigma is None and run.steady["temperature"].estimator is None
+    assert "steady (t > 0.2):" in repr(run)
+
+
+def test_one_ensemble_of_one_row_has_no_batch_sigma_and_reads(tmp_path):
+    # the spread of one ensemble's time average cannot be measured: NaN, allowed then only
+    path = tmp_path / "one.h5"
+    run_binary("run", BASE / "dsmc.yaml", "-q", "--threads", "1", "-o", path, "--set", "ensembles=1",
+               "--set", "dsmc.steady_from=0.3", "--set", "dsmc.steady_ci=independent")
+    s = read_run(path).steady["temperature"]
+    assert s.batch.estimator == "ensembles" and np.isnan(s.batch.sigma) and np.isnan(s.batch.tau_int)
+    assert s.sigma == 0.0 and s.estimator == "independent"
+    expect_error(_damaged({"one": path}, tmp_path, "one", "inf", lambda f: replace_dataset(
+        f, "steady/temperature/batch/ci", np.inf)), "dataset /steady/temperature/batch/ci: has non-finite values")

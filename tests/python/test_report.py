@@ -238,3 +238,49 @@ def test_convergence_comparison_flags_a_published_value_far_from_the_exact_bias(
     assert "differs" in short and "published n = 64 is" in short and "n = 256" not in short
     table = blocks[0][2]
     assert "**differs**" in table[0][9] and table[1][9].startswith("agrees")
+
+
+def _csv_rows(rows, columns, path):
+    write_csv(rows, columns, str(path), digits=6)
+    return read_csv(str(path))
+
+
+def test_the_steady_tables_say_how_much_wider_the_honest_conf_is(tmp_path):
+    from granboltz.report.steady import compare_steady
+
+    nosplit = read_steady(write_fake_steady_run(tmp_path / "n.h5", 65536, T_inf=2.668, ci=0.004,
+                                                batch=(0.010, 0.0025)))
+    euler = [read_steady(write_fake_steady_run(tmp_path / f"e{K}.h5", 65536, "euler", K, T_inf=2.92, ci=0.004,
+                                               batch=(0.004 * r, 0.001 * r, tau)))
+             for K, r, tau in ((32, 2.0, 0.5), (256, 3.0, 2.0))]
+    ours = _csv_rows(steady_rows(euler, nosplit, 8.0), STEADY_COLUMNS["steps"], tmp_path / "t3.csv")
+    published = [{"K": "32", "T_inf": "2.924", "Error": "0.257", "CF_Error": "", "Conf": "0.005", "CPU": "1.0"}]
+    blocks, _ = compare_steady("rw05_table3_euler", ours, published)
+    header, rows = blocks[0][1], blocks[0][2]
+    assert header[header.index("T∞ ours ± Conf") + 1] == "Conf batch" and rows[1][3] == "0.012"
+    text = " ".join(blocks[1][1])
+    assert "treats the M observations of one run as independent" in text
+    assert "wider by a factor of 2.50 on average (2.00–3.00 over the rows)." in text  # from the table, not typed
+    assert "√(2τ_int), 1.50 on average (1.00–2.00 over the rows), is the ratio of the two standard errors" in text
+    table5 = [{"T_inf": "2.6665", "Error": "0.0002", "Conf": "0.004", "CPU": "1"}]
+    single = _csv_rows(steady_rows([nosplit], nosplit, 8.0), STEADY_COLUMNS["single"], tmp_path / "t5.csv")
+    text = " ".join(compare_steady("rw05_table5_nosplit", single, table5)[0][1][1])
+    assert "wider by a factor of 2.50." in text and "√(2τ_int)" not in text  # a file without tau_int
+    # a table of files without the batch interval says nothing of it
+    plain = [read_steady(write_fake_steady_run(tmp_path / "p.h5", 65536, T_inf=2.668))]
+    ours = _csv_rows(steady_rows(plain, plain[0], 8.0), STEADY_COLUMNS["single"], tmp_path / "p.csv")
+    assert "wider by" not in " ".join(compare_steady("rw05_table5_nosplit", ours, table5)[0][1][1])
+
+
+def test_the_repeats_compare_the_spread_with_the_batch_sigma(tmp_path):
+    from granboltz.report.steady import compare_replicas
+
+    T = [2.667, 2.671, 2.663, 2.669]
+    reps = [read_steady(write_fake_steady_run(tmp_path / f"r{i}.h5", 65536, T_inf=t, ci=3.2 * 0.002,
+                                              batch=(0.013, 0.004))) for i, t in enumerate(T)]
+    ours = _csv_rows(replica_rows([reps], 8.0), REPLICA_COLUMNS, tmp_path / "rep.csv")
+    blocks, short = compare_replicas("rw05_steady_replicas", ours)
+    sd = np.std(T, ddof=1)
+    assert f"{sd / 0.002:.2f} × nominal σ, {sd / 0.004:.2f} × batch σ" in short
+    assert blocks[0][2][0][blocks[0][1].index("sd / batch σ")] == f"{sd / 0.004:.2f}"
+    assert f"the real spread is {sd / 0.004:.2f} (nosplit) × batch σ" in " ".join(blocks[1][1])

@@ -29,12 +29,14 @@ def outputs(tmp_path_factory):
 
     runs = {m: run(BASE / f"{m}.yaml", m) for m in ("dsmc", "intruder", "needle")}
     runs["steady"] = run(BASE / "dsmc.yaml", "steady", "--set", "dsmc.steady_from=0.2")
+    runs["independent"] = run(BASE / "dsmc.yaml", "independent", "--set", "dsmc.steady_from=0.2",
+                              "--set", "dsmc.steady_ci=independent")
     runs["shard"] = run(BASE / "dsmc.yaml", "shard", "--set", "shard.count=2", "--set", "shard.index=1")
     return runs
 
 
-def _short(text):
-    assert text.count("\n") <= 8 and "[" not in text and "array" not in text, text
+def _short(text, lines=8):
+    assert text.count("\n") <= lines and "[" not in text and "array" not in text, text
     return text
 
 
@@ -50,12 +52,23 @@ def test_a_dsmc_run_says_its_sizes_times_observables_and_final_values(outputs):
     assert isinstance(run.temperature.mean, np.ndarray) and run.time.shape == (3,)  # the API is unchanged
 
 
-def test_a_steady_run_prints_its_steady_averages(outputs):
+def test_a_steady_run_prints_its_steady_averages_with_sigma_and_estimator(outputs):
     run = outputs["steady"]
-    text = _short(str(run))
+    text = _short(str(run), lines=12)  # each steady value says its sigma too
     s = run.steady["temperature"]
-    assert "steady (t > 0.2):" in text and f"temperature = {format_pm(s.mean, s.ci)}" in text
+    assert "steady (t > 0.2; ± ci (σ), estimator: blocking):" in text  # N = 4: blocking
+    assert f"temperature = {format_pm(s.mean, s.ci)} (σ {s.sigma:.2f})" in text
+    assert "a2 = " in text and "estimator: ensembles)" in text  # a2's own estimator, where it differs
     assert "at t =" not in text
+    assert repr(s) == f"Observable steady/temperature = {format_pm(s.mean, s.ci)} (σ {s.sigma:.2f}, estimator: blocking)"
+
+
+def test_an_independent_run_prints_the_batch_interval_beside_its_own(outputs):
+    run = outputs["independent"]
+    text = _short(str(run), lines=12)
+    s = run.steady["temperature"]
+    assert "steady (t > 0.2; ± ci (σ), estimator: independent, batch: blocking):" in text
+    assert f"temperature = {format_pm(s.mean, s.ci)} (σ {s.sigma:.2f}, batch ± {s.batch.ci:.2f})" in text
 
 
 def test_a_shard_says_it_is_one(outputs):

@@ -11,7 +11,7 @@ from granboltz.steady import effort_rows, replica_rows, STEADY_COLUMNS, steady_r
 from granboltz.tables import fit_order, RW05_TABLE1_COLUMNS, rw05_table1_rows, timestep_rows
 from granboltz.tails import fit_tail, TAIL_COLUMNS, tail_points, tail_rows, WINDOW_COLUMNS
 from granboltz.theory import expected_error, scheme_steady_temperature, scheme_temperature
-from conftest import (add_moments, tail_histogram, write_fake_histogram_run, write_fake_run,
+from conftest import (ROOT, add_moments, tail_histogram, write_fake_histogram_run, write_fake_run,
                       write_fake_scheme_run, write_fake_steady_run)
 
 K_EX = 0.75  # k = gamma pi C0 (1 - alpha^2) of RW05 §4 and GRW05 Example 3
@@ -113,6 +113,17 @@ def test_steady_rows_give_error_conf_cpu_and_factors(tmp_path):
     assert set(STEADY_COLUMNS["steps"]) <= set(rows[0])
 
 
+def test_steady_rows_put_the_batch_interval_beside_conf(tmp_path):
+    nosplit = steady(tmp_path, "n", ci=0.004, batch=(0.011, 0.0028, 1.7))
+    (row,) = steady_rows([nosplit], nosplit, 8.0)
+    assert row["Conf"] == 0.004 and row["Conf_batch"] == 0.011 and row["tau_int"] == 1.7
+    for layout, table in (("steps", "rw05_table3_euler"), ("single", "rw05_table5_nosplit"), ("methods", "rw05_table6")):
+        published = (ROOT / "config" / "published" / f"{table}.csv").read_text().splitlines()[0].split(",")
+        assert STEADY_COLUMNS[layout][len(published):][:2] == ["Conf_batch", "tau_int"]  # ours, after the paper's
+    (old,) = steady_rows([steady(tmp_path, "o")], nosplit, 8.0)  # a file without it: an empty cell
+    assert old["Conf_batch"] is None and old["tau_int"] is None
+
+
 def test_steady_rows_of_table6_use_t_inf_100(tmp_path):
     runs = [steady(tmp_path, "h", beta=37.5, T_inf=109.596, scheme="euler", K=32)]
     (row,) = steady_rows(runs, runs[0] | {"wall_seconds": 1.0}, 8.0)
@@ -145,6 +156,16 @@ def test_replica_rows_measure_the_spread_against_the_nominal_sigma(tmp_path):
     assert row["T_inf_sd"] == pytest.approx(np.std(T, ddof=1)) and row["sigma_nominal"] == pytest.approx(0.002)
     assert row["sd_ratio"] == pytest.approx(np.std(T, ddof=1) / 0.002)
     assert row["z_expected"] == pytest.approx((np.mean(T) - row["T_expected"]) / (np.std(T, ddof=1) / 2))
+    assert row["sigma_batch"] is None and row["sd_ratio_batch"] is None  # files without the batch interval
+
+
+def test_replica_rows_measure_the_spread_against_the_batch_sigma_too(tmp_path):
+    T, sigmas = [2.667, 2.671, 2.663, 2.669], [0.003, 0.004, 0.002, 0.005]
+    runs = [steady(tmp_path, f"r{i}", T_inf=t, ci=3.2 * 0.002, batch=(4 * s, s)) for i, (t, s) in enumerate(zip(T, sigmas))]
+    (row,) = replica_rows([runs], 8.0)
+    rms = np.sqrt(np.mean(np.square(sigmas)))  # each run's sigma^2 estimates the variance
+    assert row["sigma_batch"] == pytest.approx(rms) and row["sd_ratio_batch"] == pytest.approx(np.std(T, ddof=1) / rms)
+    assert row["sd_ratio"] == pytest.approx(np.std(T, ddof=1) / 0.002)
 
 
 # ----------------------------------------------------------------------------- Crit, eq. (29)

@@ -135,7 +135,8 @@ def test_rw05_run_configs_carry_scheme_steps_and_steady_keys(tmp_path):
     assert run["steady"]["dsmc"]["steady_ci"] == "independent" and "steady_ci" not in run["timestep"]["dsmc"]
     assert run["replica"]["seed"] != yaml.safe_load(snakemake_config_text(tmp_path))["seed"]
     d = run["tail"]["dsmc"]
-    assert d["histogram"] == {"center": "origin", "shells": 128, "radius": 16.0} and d["kernel"]["lambda"] == 1 and d["t_end"] == 0.25
+    assert d["histogram"] == {"center": "origin", "shells": 128, "radius": 16.0}  # |v|, GRW05 eq. (37)
+    assert d["kernel"]["lambda"] == 1 and d["t_end"] == 0.25
 
 
 def snakemake_config_text(tmp_path):

@@ -3,9 +3,10 @@
 Tables 3-6 give Conf, the confidence half-width of T_inf from the M = 64 observations of one
 run, taken as independent ("big enough to assure almost independent observations"). Here the
 no-splitting run (input nosplit) and one Euler run (input euler) are repeated with other seeds:
-the sample standard deviation of their T_inf against the nominal sigma = Conf / lambda_p, the
-mean against the exact expectation T_expected, and the lag-1 autocorrelation of the
-observations. Columns: granboltz.steady.REPLICA_COLUMNS.
+the sample standard deviation of their T_inf against the nominal sigma = Conf / lambda_p and
+against the batch estimator's sigma of one run, the mean against the exact expectation
+T_expected, and the lag-1 autocorrelation of the observations. Columns:
+granboltz.steady.REPLICA_COLUMNS.
 """
 
 import sys

@@ -2,7 +2,8 @@
 
 One long run per scheme (n = 65536): T_inf, the average of the uncentred temperature |v|^2/3
 over the observations s_m > s0 (the simulator's /steady); Error = |T_inf - T_exact| (T_exact =
-8/3, or 100 for Table 6, eq. 25); Conf, the confidence half-width over the M observations; CPU,
+8/3, or 100 for Table 6, eq. 25); Conf, the confidence half-width over the M observations taken as
+independent (the paper's); Conf_batch, the honest one of the same run (/steady/.../batch); CPU,
 the simulator's wall time (/provenance wall_seconds; one thread) relative to the no-splitting run
 (input nosplit); CF: quotients of consecutive rows. params.layout: "steps" (Tables 3, 4: one row
 per K), "single" (Table 5), "methods" (Table 6: one row per scheme). Ours add T_scheme, the

@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .io import open_run, read_config, read_dataset, read_finite, run_attrs
+from .io import open_run, read_config, read_dataset, read_finite, reading, run_attrs, text
 
 # Temperature estimator behind the published error tables: phi(v) = |v|^2 / 3 (RW05 §4.1). Its
 # exact finite-n bias matches the published E_max (about 5.7/n in GRW05 Example 3); the centred
@@ -98,13 +98,34 @@ def read_histogram(path):
         }
 
 
+def _batch_interval(f, path, group):
+    """{ci, sigma, estimator, tau_int}_batch of the honest interval of /steady/<observable>
+    `group`: its batch subgroup (steady_ci: independent), the group itself when its estimator is
+    ensembles or blocking (steady_ci: batch), else None each (a file without them)."""
+    where = f"{group}/batch" if f"{group}/batch" in f else group
+    with reading(path, f"the attributes of /{where}"):
+        attrs = dict(f[where].attrs)
+    estimator = text(attrs["estimator"]) if "estimator" in attrs else None
+    if estimator not in ("ensembles", "blocking"):
+        return {f"{key}_batch": None for key in ("ci", "sigma", "estimator", "tau_int")}
+    # NaN where fewer than two ensembles leave nothing to measure (docs/output.md)
+    return {"ci_batch": float(read_dataset(f, f"{where}/ci", path)),
+            "sigma_batch": float(read_dataset(f, f"{where}/sigma", path)), "estimator_batch": estimator,
+            "tau_int_batch": float(attrs["tau_int"]) if "tau_int" in attrs else None}
+
+
 def read_steady(path):
-    """The steady-state averages of a run (RW05 §4.2) and its event counts: dict."""
+    """The steady-state averages of a run (RW05 §4.2) and its event counts: dict. mean, ci: the
+    file's /steady average of the uncentred temperature and its half-width (with steady_ci:
+    independent, the papers' one); ci_batch, sigma_batch, estimator_batch, tau_int_batch: the
+    honest interval of the same average and the integrated autocorrelation time in
+    observations it measured (None for a file without it)."""
     with open_run(path) as f:
         config = read_config(f, path)
         if "steady" not in f:
             raise ValueError(f"{path}: no /steady group (run without dsmc.steady_from)")
         out = {
+            **_batch_interval(f, path, f"steady/{TEMPERATURE}"),
             "config": config,
             "n": int(config["dsmc"]["particles"]),
             "N": int(f.attrs["ensembles"]),

@@ -1,6 +1,7 @@
 """The layout of granboltz outputs that granboltz.run.read_run checks: per model and config, the
-datasets every output has with their dtypes and shapes, and the readers that check a dataset or
-an attribute against it and raise RunReadError naming the file and the object.
+datasets every output has with their dtypes and shapes (Spec); granboltz.reader.Reader checks a
+dataset or an attribute against it and raises RunReadError naming the file and the object, and
+granboltz.intervals adds the steady-state intervals.
 
 What the simulator writes: src/granboltz/app/output.cpp (root and provenance attributes),
 record/record.cpp (accumulators, events), dsmc/run.cpp (present_dsmc, dsmc_layout), tv06/run.cpp
@@ -9,10 +10,10 @@ record/record.cpp (accumulators, events), dsmc/run.cpp (present_dsmc, dsmc_layou
 
 from dataclasses import dataclass
 
-import h5py
 import numpy as np
 
-from .io import RunReadError, check_finite, read_attribute, reading, text
+from .io import RunReadError
+from .reader import Reader  # noqa: F401 - older callers import it from here
 
 # Doubles are float64, counters uint64, the exact sums int64 digits.
 F8, U8, I8 = np.dtype("<f8"), np.dtype("<u8"), np.dtype("<i8")
@@ -35,85 +36,6 @@ class Spec:
     shape: tuple = None
     finite: bool = True
     why: str = ""
-
-
-class Reader:
-    """Reads one open output, checking each dataset and attribute against its Spec; every
-    failure is RunReadError naming the file and the object."""
-
-    def __init__(self, f, path, model):
-        self.f, self.path, self.model = f, path, model
-
-    def why(self, condition=""):
-        return f"every {self.model} output{' with ' + condition if condition else ''} has it"
-
-    def fail(self, name, problem):
-        raise RunReadError(self.path, name, problem)
-
-    def dataset(self, spec, read=True):
-        label = f"dataset /{spec.name}"
-        with reading(self.path, label):
-            obj = self.f.get(spec.name)
-            if obj is None:
-                self.fail(label, f"missing ({spec.why})" if spec.why else "missing")
-            if not isinstance(obj, h5py.Dataset):
-                self.fail(label, "is a group, not a dataset")
-            dtype = obj.dtype
-            if dtype.kind != spec.dtype.kind or dtype.itemsize != spec.dtype.itemsize:
-                self.fail(label, f"has dtype {dtype}, not {spec.dtype}")
-            if spec.shape is not None and obj.shape != tuple(spec.shape):
-                self.fail(label, f"has shape {obj.shape}, not {tuple(spec.shape)}")
-            if not read:
-                return None
-            data = obj[()]
-        if spec.finite:
-            check_finite(data, self.path, label)
-        return data
-
-    def group(self, name, why):
-        label = f"group /{name}"
-        with reading(self.path, label):
-            obj = self.f.get(name)
-            if obj is None:
-                self.fail(label, f"missing ({why})")
-            if not isinstance(obj, h5py.Group):
-                self.fail(label, "is a dataset, not a group")
-            return obj
-
-    def attribute(self, owner, key, why):
-        where = "" if owner == "/" else f"/{owner}"
-        with reading(self.path, f"attribute {key}" + (f" of {where}" if where else "")):
-            obj = self.f if owner == "/" else self.group(owner, why)
-            return read_attribute(obj, key, self.path, where, why)
-
-    def integer(self, owner, key, why, minimum=0):
-        value = self.attribute(owner, key, why)
-        name = f"attribute {key}" + ("" if owner == "/" else f" of /{owner}")
-        if not (isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_))):
-            self.fail(name, f"is not an integer ({value!r})")
-        if value < minimum:
-            self.fail(name, f"is {value}, less than {minimum}")
-        return int(value)
-
-    def number(self, owner, key, why):
-        value = self.attribute(owner, key, why)
-        name = f"attribute {key}" + ("" if owner == "/" else f" of /{owner}")
-        if not isinstance(value, (int, float, np.integer, np.floating)) or not np.isfinite(value):
-            self.fail(name, f"is not a finite number ({value!r})")
-        return float(value)
-
-    def text(self, owner, key, why):
-        value = self.attribute(owner, key, why)
-        name = f"attribute {key}" + ("" if owner == "/" else f" of /{owner}")
-        if not isinstance(value, (bytes, str)):
-            self.fail(name, f"is not text ({value!r})")
-        with reading(self.path, name):
-            return text(value)
-
-    def names(self, group):
-        """The member names of a group the layout has already checked ("/": the root's)."""
-        with reading(self.path, "the root group" if group == "/" else f"group /{group}"):
-            return list(self.f[group])
 
 
 def config_section(config, path, model):
@@ -174,20 +96,52 @@ def observable_specs(name, trailing, rows, why, per_ensemble=None):
     return specs
 
 
+def config_flag(path, section, model, keys):
+    """A true/false of the config, e.g. dsmc.histogram.component (False if absent)."""
+    value = section
+    for key in keys:
+        value = value.get(key) if isinstance(value, dict) else None
+    if value is None:
+        return False
+    if not isinstance(value, bool):
+        raise RunReadError(path, "attribute config", f"{model}.{'.'.join(keys)} is not true or false ({value!r})")
+    return value
 
-def dsmc_layout(reader, section, rows, n):
+
+def _histogram_specs(out, acc, name, R, K1, steady, swpm, h_why, sh_why):
+    out["histograms"][name] = [Spec(f"{name}/edges", F8, (K1,), True, h_why),
+                               Spec(f"{name}/mean", F8, (R, K1), True, h_why),
+                               Spec(f"{name}/ci", F8, (R, K1), True, h_why),
+                               Spec(f"{name}/counts", U8, (R, K1), True, h_why)]
+    acc += [Spec(f"accumulators/{name}", U8, (R * K1,), True, h_why),
+            Spec(f"accumulators/{name}_sq", U8, (R * K1, 2), True, h_why)]
+    if steady:
+        out["steady"][f"steady/{name}"] = [Spec(f"steady/{name}/mean", F8, (K1,), True, sh_why),
+                                           Spec(f"steady/{name}/ci", F8, (K1,), True, sh_why)]
+        out["steady_rows"].append((f"steady/{name}", sh_why))
+        acc.append(Spec(f"accumulators/{name}_steady", I8, (K1,) + _SUMS, True, sh_why))
+    if swpm:
+        acc.append(Spec(f"accumulators/{name}_weight", I8, (R * K1,) + _SUMS, True, h_why))
+
+
+def dsmc_layout(reader, section, time, n):
     """Observables, events, steady, histogram and accumulators of a DSMC output (dsmc/run.cpp
-    present_dsmc, dsmc_layout): {"observables": {name: [Spec]}, ...}. Optional, so that files of
-    older simulators still read: /a2, /a3, /steady/a2, /steady/a3 (mean and ci, no variance) and
-    /steady/<observable>/sigma; read_run reads them where present, as groups the layout does not
-    name."""
+    present_dsmc, dsmc_layout): {"observables": {name: [Spec]}, ...}; "intervals": {steady
+    group: IntervalSpec}, "text": [(owner, key, allowed values, why)] and "steady_rows":
+    [(group, why)] of the groups with attribute rows (/steady: granboltz.intervals).
+
+    What a file has depends on when its simulator was built, and the resolved config tells: one
+    with dsmc.histogram.center has attribute center on the histograms. Optional, so that files of
+    older simulators still read: /a2, /a3 (mean and ci, no variance), read as groups the layout
+    does not name."""
     path, why = reader.path, reader.why
     P = config_int(path, section, "dsmc", ("moments",), 4)
     K1 = config_int(path, section, "dsmc", ("histogram", "shells")) + 1
     shells = K1 > 1
+    component = shells and config_flag(path, section, "dsmc", ("histogram", "component"))
     steady = section.get("steady_from") is not None
     swpm = section.get("weights") is not None
-    R = rows
+    R = time.size
     moments = [(f"moment_{2 * p}", ()) for p in range(1, P + 1)]
     m_why = why("dsmc.moments > 0")
     out = {"observables": {name: observable_specs(name, trail, (R,), why()) for name, trail in _DSMC_OBSERVABLES}}
@@ -201,34 +155,23 @@ def dsmc_layout(reader, section, rows, n):
     acc = [Spec("accumulators/series", I8, (R * _DSMC_SCALARS,) + _SUMS, True, why())]
     if P:
         acc.append(Spec("accumulators/moment_series", I8, (R * P,) + _SUMS, True, m_why))
-    out["steady"] = {}
+    out["steady"], out["intervals"], out["text"], out["steady_rows"], out["histograms"] = {}, {}, [], [], {}
     if steady:
-        s_why = why("dsmc.steady_from")
-        out["steady"] = {f"steady/{name}": observable_specs(f"steady/{name}", trail, (), s_why)
-                         for name, trail in _DSMC_OBSERVABLES}
-        sm_why = why("dsmc.steady_from and dsmc.moments > 0")
-        out["steady"].update({f"steady/{name}": observable_specs(f"steady/{name}", trail, (), sm_why)
-                              for name, trail in moments})
-        acc.append(Spec("accumulators/steady", I8, (_DSMC_SCALARS,) + _SUMS, True, s_why))
-        if P:
-            acc.append(Spec("accumulators/moment_steady", I8, (P,) + _SUMS, True, s_why))
-    out["histograms"] = {}
+        from .intervals import steady_layout  # it builds on this module
+
+        steady_layout(reader, section, time, n, P, moments, out, acc)
     if shells:
         h_why = why("dsmc.histogram")
-        out["histograms"]["histogram"] = [Spec("histogram/edges", F8, (K1,), True, h_why),
-                                          Spec("histogram/mean", F8, (R, K1), True, h_why),
-                                          Spec("histogram/ci", F8, (R, K1), True, h_why),
-                                          Spec("histogram/counts", U8, (R, K1), True, h_why)]
-        acc += [Spec("accumulators/histogram", U8, (R * K1,), True, h_why),
-                Spec("accumulators/histogram_sq", U8, (R * K1, 2), True, h_why)]
-        if steady:
-            sh_why = why("dsmc.histogram and dsmc.steady_from")
-            out["steady"]["steady/histogram"] = [Spec("steady/histogram/mean", F8, (K1,), True, sh_why),
-                                                 Spec("steady/histogram/ci", F8, (K1,), True, sh_why)]
-            acc.append(Spec("accumulators/histogram_steady", I8, (K1,) + _SUMS, True, sh_why))
-        if swpm:
-            acc.append(Spec("accumulators/histogram_weight", I8, (R * K1,) + _SUMS, True,
-                            why("dsmc.histogram and dsmc.weights")))
+        sh_why = why("dsmc.histogram and dsmc.steady_from")
+        _histogram_specs(out, acc, "histogram", R, K1, steady, swpm, h_why, sh_why)
+        center = section["histogram"].get("center")
+        if center is not None:  # resolved configs say it since dsmc.histogram.center exists
+            out["text"].append(("histogram", "center", (center,), why("dsmc.histogram.center")))
+        if component:
+            c_why = why("dsmc.histogram.component")
+            _histogram_specs(out, acc, "histogram_component", R, K1, steady, swpm, c_why,
+                             why("dsmc.histogram.component and dsmc.steady_from"))
+            out["text"].append(("histogram_component", "center", ("bulk",), c_why))  # always about V(t)
     out["accumulators"] = acc
     out["scalars"], out["exact"] = [], []
     return out
@@ -278,5 +221,5 @@ def tv06_layout(reader, model, section, n):
                 Spec(f"accumulators/{name}_sq", U8, (bins, 2), True, h_why)]
         out["totals"] += [(f"{name}_{key}", h_why) for key in ("below", "above", "samples")]
     out["accumulators"] = acc
-    out["steady"] = {}
+    out["steady"], out["intervals"], out["text"], out["steady_rows"] = {}, {}, [], []
     return out

@@ -3,6 +3,8 @@
     run = read_run("out.h5")
     run.time                         # observation times t_m (DSMC), NumPy array
     run.temperature.mean, .ci        # an observable: ensemble mean and its confidence half-width
+    run.steady["temperature"].sigma  # a steady average: its standard error, .estimator, .tau_int, ...
+    run.steady["temperature"].batch  # steady_ci: independent: the honest (batch) interval beside it
     run.observables                  # {name: Observable} of every observable in the file
     run.histograms["histogram"]      # read from the file only when first asked for
     run.events["collisions"]         # per-ensemble counters
@@ -28,9 +30,11 @@ import h5py
 import numpy as np
 
 from .io import RunReadError, open_run, provenance, read_config, read_dataset, reading
-from .layout import F8, U8, Reader, Spec, check_provenance, config_section, dsmc_layout, shard_range, tv06_layout
+from .intervals import Interval, read_fields, read_steady
+from .layout import F8, U8, Spec, check_provenance, config_section, dsmc_layout, shard_range, tv06_layout
+from .reader import Reader
 
-_HISTOGRAM_GROUPS = ("histogram", "velocity_histogram", "omega_histogram")
+_HISTOGRAM_GROUPS = ("histogram", "histogram_component", "velocity_histogram", "omega_histogram")
 _NOT_OBSERVABLES = {"events", "steady", "accumulators", "provenance", "exact"} | set(_HISTOGRAM_GROUPS)
 
 
@@ -38,13 +42,24 @@ _NOT_OBSERVABLES = {"events", "steady", "accumulators", "provenance", "exact"} |
 class Observable:
     """One observable over the ensembles: mean, confidence half-width ci (lambda_p = 3.2, GRW05
     eq. 31) and variance, each [M+1, ...] for DSMC series or scalars for TV06 time averages;
-    per_ensemble [N] where the file has it (TV06), else None."""
+    per_ensemble [N] where the file has it (TV06), else None.
+
+    A steady average (run.steady) also has sigma, its standard error, with estimator, tau_int,
+    effective_samples, block_rows (as Interval), and with steady_ci: independent batch, the
+    Interval of the batch estimator of the same run (ci takes the correlated rows as independent,
+    batch.ci does not). None where the file has none: series, TV06, older files."""
 
     name: str
     mean: np.ndarray
     ci: np.ndarray
     variance: np.ndarray = None
     per_ensemble: np.ndarray = None
+    sigma: np.ndarray = None
+    estimator: str = None
+    tau_int: float = None
+    effective_samples: float = None
+    block_rows: int = None
+    batch: Interval = None
 
     def __repr__(self):
         from .summary import observable_summary
@@ -150,9 +165,7 @@ class Run:
 
 
 def _read_observable(reader, name, specs):
-    values = {spec.name.rpartition("/")[2]: reader.dataset(spec) for spec in specs}
-    return Observable(name=name, mean=values["mean"], ci=values["ci"],
-                      variance=values.get("variance"), per_ensemble=values.get("per_ensemble"))
+    return Observable(name=name, **read_fields(reader, specs))  # mean, ci, variance[, per_ensemble]
 
 
 def _read_other_observable(reader, name):
@@ -165,7 +178,8 @@ def _read_other_observable(reader, name):
                       ci=read_dataset(f, f"{name}/ci", path),
                       variance=read_dataset(f, f"{name}/variance", path) if "variance" in members else None,
                       per_ensemble=(read_dataset(f, f"{name}/per_ensemble", path)
-                                    if "per_ensemble" in members else None))
+                                    if "per_ensemble" in members else None),
+                      sigma=read_dataset(f, f"{name}/sigma", path) if "sigma" in members else None)
 
 
 def _has_mean_and_ci(reader, name):
@@ -218,7 +232,7 @@ def _read(reader, config, model):
     if not np.array_equal(index, np.arange(first, last)):
         reader.fail("dataset /events/ensemble", f"is not the ensembles {first}..{last - 1} of this file")
     if model == "dsmc":
-        layout = dsmc_layout(reader, section, time.size, n)
+        layout = dsmc_layout(reader, section, time, n)
     else:
         layout = tv06_layout(reader, model, section, n)
 
@@ -233,15 +247,8 @@ def _read(reader, config, model):
         if name not in events:
             events[name] = read_dataset(f, f"events/{name}", path)
 
-    steady = {}
-    if layout["steady"]:
-        reader.group("steady", why("dsmc.steady_from"))
-        reader.integer("steady", "samples", why("dsmc.steady_from"), minimum=1)
-        reader.number("steady", "from", why("dsmc.steady_from"))
-        if "steady/histogram" in layout["steady"]:
-            reader.integer("steady/histogram", "rows", why("dsmc.histogram and dsmc.steady_from"), minimum=1)
-        steady = {name.rpartition("/")[2]: _read_observable(reader, name, specs)
-                  for name, specs in layout["steady"].items()}
+    steady = {name.rpartition("/")[2]: Observable(name=name, **fields)
+              for name, fields in read_steady(reader, layout, n).items()}
     if "steady" in reader.names("/"):
         for name in reader.names("steady"):
             if name not in steady and _has_mean_and_ci(reader, f"steady/{name}"):
@@ -254,6 +261,11 @@ def _read(reader, config, model):
         for name in reader.names("exact"):
             if name not in exact:
                 exact[name] = read_dataset(f, f"exact/{name}", path)
+
+    for owner, key, allowed, reason in layout["text"]:
+        value = reader.text(owner, key, reason)
+        if value not in allowed:
+            reader.fail(f"attribute {key} of /{owner}", f"is {value!r}, not {' or '.join(map(repr, allowed))}")
 
     for name, specs in layout["histograms"].items():
         reader.group(name, specs[0].why)

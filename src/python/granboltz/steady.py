@@ -12,19 +12,22 @@ from .theory import LAMBDA_P, dsmc_physics, scheme_steady_temperature, uncentred
 
 
 # ----------------------------------------------------------------------------- RW05 Tables 3-6
-STEADY_COLUMNS = {  # the paper's columns, then ours
-    "steps": ["K", "T_inf", "Error", "CF_Error", "Conf", "CPU", "CF_CPU",
+STEADY_COLUMNS = {  # the paper's columns, then ours, first the honest interval of Conf's run
+    "steps": ["K", "T_inf", "Error", "CF_Error", "Conf", "CPU", "CF_CPU", "Conf_batch", "tau_int",
               "n", "dt", "T_scheme", "T_expected", "T_inf_centred", "samples", "wall_seconds"],
-    "single": ["T_inf", "Error", "Conf", "CPU", "n", "T_scheme", "T_expected", "T_inf_centred", "samples",
-               "wall_seconds"],
-    "methods": ["method", "T_inf", "Error", "Conf", "K", "n", "T_exact", "Error_percent", "T_scheme",
-                "T_expected", "T_inf_centred", "CPU", "wall_seconds"],
+    "single": ["T_inf", "Error", "Conf", "CPU", "Conf_batch", "tau_int", "n", "T_scheme", "T_expected",
+               "T_inf_centred", "samples", "wall_seconds"],
+    "methods": ["method", "T_inf", "Error", "Conf", "Conf_batch", "tau_int", "K", "n", "T_exact", "Error_percent",
+                "T_scheme", "T_expected", "T_inf_centred", "CPU", "wall_seconds"],
 }
 
 
 def steady_rows(steadies, nosplit, dt_unit):
     """RW05 Tables 3-6: one row per steady run (dicts of read_steady). T_inf: the average of the
-    uncentred temperature over t_m > s0; Conf: its confidence half-width over those samples;
+    uncentred temperature over t_m > s0; Conf: its confidence half-width over those samples,
+    taken as independent (the papers' method, steady_ci: independent); Conf_batch: the batch
+    estimator's half-width of the same run, which accounts for their correlation, and tau_int
+    the integrated autocorrelation time in observations it measured (None without);
     Error = |T_inf - T_exact| with T_exact = 2 beta / k (eq. 25); CPU: wall_seconds of the
     simulator (/provenance) relative to the no-splitting run `nosplit`; T_scheme: the scheme's
     stationary mean as n -> infinity; T_expected: with the finite-n bias of the estimator.
@@ -40,7 +43,8 @@ def steady_rows(steadies, nosplit, dt_unit):
         t_avg = s["time"][s["time"] > d["steady_from"] + 1e-12]
         rows.append({
             "method": scheme, "K": None if dt is None else int(round(dt_unit / dt)), "n": s["n"], "dt": dt,
-            "T_inf": s["mean"], "Conf": s["ci"], "Error": abs(s["mean"] - T_exact), "T_exact": T_exact,
+            "T_inf": s["mean"], "Conf": s["ci"], "Conf_batch": s.get("ci_batch"),
+            "tau_int": s.get("tau_int_batch"), "Error": abs(s["mean"] - T_exact), "T_exact": T_exact,
             "Error_percent": 100 * abs(s["mean"] - T_exact) / T_exact, "T_scheme": T_scheme,
             "T_expected": float(np.mean(uncentred_expectation(T_scheme, t_avg, T0, beta, s["n"]))),
             "T_inf_centred": s["mean_centred"], "samples": int(t_avg.size * s["N"]),
@@ -54,28 +58,34 @@ def steady_rows(steadies, nosplit, dt_unit):
 
 
 REPLICA_COLUMNS = ["scheme", "K", "replicas", "T_inf_mean", "T_inf_sd", "T_inf_se", "sigma_nominal", "sd_ratio",
-                   "T_expected", "z_expected", "rho1"]
+                   "sigma_batch", "sd_ratio_batch", "T_expected", "z_expected", "rho1"]
 
 
 def replica_rows(groups, dt_unit):
     """Our check of the steady-state confidence intervals (RW05 §4.2): for each group of
     repeated steady runs (same scheme, other seeds), the mean and the sample standard deviation
     of their T_inf, against the nominal sigma = Conf / lambda_p of one run (which takes the M
-    observations as independent); sd_ratio = T_inf_sd / sigma_nominal; z_expected = (mean -
-    T_expected) / (sd / sqrt(R)); rho1: mean lag-1 autocorrelation of the observations."""
+    observations as independent); sd_ratio = T_inf_sd / sigma_nominal; sigma_batch: the batch
+    estimator's sigma of one run (root mean square over the runs, since each estimates a variance;
+    None without), sd_ratio_batch = T_inf_sd / sigma_batch; z_expected = (mean - T_expected) /
+    (sd / sqrt(R)); rho1: mean lag-1 autocorrelation of the observations."""
     rows = []
     for steadies in groups:
         base = steady_rows(steadies, steadies[0], dt_unit)  # sorted by K: all the same scheme
         T = np.array([s["mean"] for s in steadies])
         sd = float(np.std(T, ddof=1))
         sigma = float(np.mean([s["ci"] for s in steadies])) / LAMBDA_P
+        batch = [s.get("sigma_batch") for s in steadies]
+        sigma_batch = None if None in batch else float(np.sqrt(np.mean(np.square(batch))))
         rho = []
         for s in steadies:
             x = s["series"][s["time"] > s["config"]["dsmc"]["steady_from"] + 1e-12]
             rho.append(float(np.corrcoef(x[:-1], x[1:])[0, 1]))
         rows.append({"scheme": base[0]["method"], "K": base[0]["K"], "replicas": len(steadies),
                      "T_inf_mean": float(T.mean()), "T_inf_sd": sd, "T_inf_se": sd / math.sqrt(len(T)),
-                     "sigma_nominal": sigma, "sd_ratio": sd / sigma, "T_expected": base[0]["T_expected"],
+                     "sigma_nominal": sigma, "sd_ratio": sd / sigma, "sigma_batch": sigma_batch,
+                     "sd_ratio_batch": None if sigma_batch is None else sd / sigma_batch,
+                     "T_expected": base[0]["T_expected"],
                      "z_expected": (float(T.mean()) - base[0]["T_expected"]) / (sd / math.sqrt(len(T))),
                      "rho1": float(np.mean(rho))})
     return rows

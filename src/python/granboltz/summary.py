@@ -1,6 +1,8 @@
 """What repr(run) and str(run) print for a read_run object: a few lines (model, sizes, shard,
 time grid, the observables' names and the steady or final values with their confidence
-half-widths), never whole arrays, so that a Run in a notebook or a log says what it is."""
+half-widths; steady ones with their standard error σ, estimator and, for steady_ci:
+independent, the batch interval), never whole arrays, so that a Run in a notebook or a log
+says what it is."""
 
 import math
 
@@ -50,6 +52,41 @@ def _values(observables, pick, exact=None):
     return out
 
 
+def _estimators(key):
+    own, batch = key
+    return f"estimator: {own}" + (f", batch: {batch}" if batch else "")
+
+
+def _format_sigma(sigma):
+    """A standard error to two significant digits (as format_pm gives ci)."""
+    sigma = float(sigma)
+    if not math.isfinite(sigma) or sigma <= 0:
+        return f"{sigma:g}"
+    if sigma >= 1e6 or sigma < 1e-3:
+        return f"{sigma:.1e}"
+    return f"{sigma:.{max(0, 1 - math.floor(math.log10(sigma)))}f}"
+
+
+def _common_estimator(observables):
+    """(estimator, batch estimator) most of the steady scalars have, or None for a file without."""
+    keys = [(o.estimator, o.batch.estimator if o.batch else None) for o in observables if o.estimator]
+    return max(set(keys), key=keys.count) if keys else None
+
+
+def _steady_value(name, obs, common):
+    """'name = mean ± ci (σ sigma[, batch ± ci][; its estimators where they are not the common ones])'."""
+    text = f"{name} = {format_pm(obs.mean, obs.ci)}"
+    if obs.sigma is None:
+        return text
+    extra = [f"σ {_format_sigma(obs.sigma)}"]
+    if obs.batch is not None:
+        extra.append(f"batch ± {_format_sigma(obs.batch.ci)}")
+    key = (obs.estimator, obs.batch.estimator if obs.batch else None)
+    if key != common:
+        extra.append(_estimators(key))
+    return f"{text} ({', '.join(extra)})"
+
+
 def summarize(run):
     """The summary of a Run (read_run), one string of a few lines."""
     cfg = run.config
@@ -70,8 +107,12 @@ def summarize(run):
                      + (f", {bath} bath" if bath else ""))
     lines += _wrap("  observables:", list(run.observables))
     if run.steady:
-        scalar = _values(run.steady, lambda o: (o.mean, o.ci) if np.ndim(o.mean) == 0 else None)
-        lines += _wrap(f"  steady (t > {cfg['dsmc'].get('steady_from', 0):g}):", scalar)
+        scalar = {name: o for name, o in run.steady.items() if np.ndim(o.mean) == 0}
+        common = _common_estimator(scalar.values())
+        head = f"  steady (t > {cfg['dsmc'].get('steady_from', 0):g}"
+        if common:
+            head += f"; ± ci (σ), {_estimators(common)}"
+        lines += _wrap(head + "):", [_steady_value(name, o, common) for name, o in scalar.items()])
     elif run.model == "dsmc":
         final = _values(run.observables, lambda o: (o.mean[-1], o.ci[-1]) if np.ndim(o.mean) == 1 else None)
         lines += _wrap(f"  at t = {run.time[-1]:g}:", final)
@@ -82,7 +123,10 @@ def summarize(run):
 
 
 def observable_summary(obs):
-    """One line for an Observable: its name, the shape of its mean, and its value if scalar."""
+    """One line for an Observable: its name, the shape of its mean, and its value if scalar (a
+    steady one with sigma and its estimators)."""
     if np.ndim(obs.mean) == 0:
-        return f"Observable {obs.name} = {format_pm(obs.mean, obs.ci)}"
+        text = _steady_value(obs.name, obs, None) if obs.sigma is not None else f"{obs.name} = " \
+            f"{format_pm(obs.mean, obs.ci)}"
+        return f"Observable {text}"
     return f"Observable {obs.name}: mean and ci of shape {tuple(np.shape(obs.mean))}"
