@@ -290,7 +290,9 @@ bool DsmcEnsemble::run_nosplit(double s, const std::atomic<bool>* pause) {
   constexpr bool kHeated = kHeat == kNoise, kGaussian = kHeat == kGauss;
   const double alpha = c_.alpha, beta = c_.beta;
   // Run-constant, so the branch below is always predicted: constant alpha keeps today's map.
+  // The law is a local copy: particle stores cannot alias it, so it stays in registers.
   const bool constant_law = is_constant(c_.restitution);
+  const RestitutionLaw law = c_.restitution;
   // Local copies of the streams: kept in registers instead of being stored after every draw.
   Engine ev = events_, pairs = pairs_;
   EventCounts counts = counts_;  // in registers during the loop
@@ -333,7 +335,7 @@ bool DsmcEnsemble::run_nosplit(double s, const std::atomic<bool>* pause) {
       if (constant_law) [[likely]]
         collide(a.v, b.v, unit_vector(ev), alpha);  // step 2.9
       else  // eps(g_n) at the true normal speed: the stored one times s under the Gaussian
-        collide_law(a.v, b.v, unit_vector(ev), c_.restitution, kGaussian ? s2_ : 1.0);
+        collide_law(a.v, b.v, unit_vector(ev), law, kGaussian ? s2_ : 1.0);
       if constexpr (kGaussian)
         after_gaussian_collision<kLambda, kPairwise>(norm2(a.v - v0_) + norm2(b.v - v0_) - before);
       ++counts.collisions;
@@ -387,6 +389,7 @@ template <bool kGaussian, int kLambda, bool kPairwise>
 void DsmcEnsemble::collide_during(double h) {
   const double alpha = c_.alpha;
   const bool constant_law = is_constant(c_.restitution);
+  const RestitutionLaw law = c_.restitution;
   Engine ev = events_, pairs = pairs_;
   EventCounts counts = counts_;
   double t = 0.0;
@@ -411,7 +414,7 @@ void DsmcEnsemble::collide_during(double h) {
       if (constant_law) [[likely]]
         collide(a.v, b.v, unit_vector(ev), alpha);
       else
-        collide_law(a.v, b.v, unit_vector(ev), c_.restitution, kGaussian ? s2_ : 1.0);
+        collide_law(a.v, b.v, unit_vector(ev), law, kGaussian ? s2_ : 1.0);
       if constexpr (kGaussian)
         after_gaussian_collision<kLambda, kPairwise>(norm2(a.v - v0_) + norm2(b.v - v0_) - before);
       ++counts.collisions;

@@ -6,10 +6,10 @@
 // x* = 5/(6 C1) = 0.7225 and then rises back towards 1, which is unphysical, so eps is held at
 // 7/12 for x >= x* (continuous, non-increasing in g_n).
 #include <array>
-#include <cmath>
 #include <limits>
 
 #include "granboltz/physics/restitution/param.hpp"
+#include "granboltz/physics/restitution/tenth_root.hpp"
 
 namespace granboltz {
 
@@ -32,7 +32,7 @@ struct ViscoelasticRestitution {
     return x >= kXHold ? kEpsHold : 1.0 - x * (kC1 - kC2 * x);
   }
   /// eps from the squared true normal relative speed g_n^2 (g_n^(1/5) = (g_n^2)^(1/10): no sqrt).
-  double eps_of_g2(double g2) const { return eps_of_x(delta * std::pow(g2, 0.1)); }
+  double eps_of_g2(double g2) const { return eps_of_x(delta * tenth_root(g2)); }
 };
 
 }  // namespace granboltz
