@@ -2,6 +2,10 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
+#include <string>
+#include <type_traits>
+#include <variant>
+#include <vector>
 
 #include "granboltz/config/reader.hpp"
 #include "granboltz/dsmc/config.hpp"
@@ -15,6 +19,40 @@ constexpr double kTimeTolerance = 1e-9;
 bool is_multiple(double t, double step) {
   const double q = t / step;
   return std::fabs(q - std::round(q)) <= kTimeTolerance * std::max(1.0, q);
+}
+
+// dsmc.restitution: {law: NAME, PARAM: value, ...}, each law's parameters from its kParams.
+RestitutionLaw read_restitution(const Section& s) {
+  const Section r = s.sub("restitution");
+  std::vector<std::string> names;
+  RestitutionLaws::each([&](auto law) { names.push_back(decltype(law)::kName); });
+  const std::string name = r.choice("law", names);
+  RestitutionLaw out;
+  RestitutionLaws::each([&](auto law) {
+    using Law = decltype(law);
+    if (name != Law::kName) return;
+    std::vector<std::string> keys{"law"};
+    for (const auto& p : Law::kParams) {
+      const double v = r.real(p.key);
+      r.check(p.ok(v), p.key, v, p.allowed);
+      law.*(p.value) = v;
+      keys.push_back(p.key);
+    }
+    r.finish(keys);
+    out = law;
+  });
+  return out;
+}
+
+void emit_restitution(YAML::Emitter& out, const RestitutionLaw& law) {
+  std::visit([&](const auto& l) {
+    using Law = std::decay_t<decltype(l)>;
+    out << YAML::Key << "restitution" << YAML::Value << YAML::Flow << YAML::BeginMap
+        << YAML::Key << "law" << YAML::Value << Law::kName;
+    for (const auto& p : Law::kParams)
+      out << YAML::Key << p.key << YAML::Value << format_real(l.*(p.value));
+    out << YAML::EndMap;
+  }, law);
 }
 }  // namespace
 
@@ -52,8 +90,18 @@ DsmcConfig read_dsmc(const Section& s) {
   c.scheme = scheme == "euler" ? Scheme::kEuler
              : scheme == "strang" ? Scheme::kStrang : Scheme::kNoSplit;
 
-  c.alpha = s.real("alpha");
-  s.check(c.alpha > 0 && c.alpha <= 1, "alpha", c.alpha, "must satisfy 0 < alpha <= 1");
+  if (s.has("restitution")) {
+    if (s.has("alpha"))
+      throw ConfigError(s.name("restitution") + ": given with " + s.name("alpha") +
+                        "; give one of them (alpha is the constant law)");
+    c.restitution = read_restitution(s);
+    // The constant law written out is dsmc.alpha: same model, same stored config text.
+    if (const auto* k = std::get_if<ConstantRestitution>(&c.restitution)) c.alpha = k->alpha;
+  } else {
+    c.alpha = s.real("alpha");
+    s.check(c.alpha > 0 && c.alpha <= 1, "alpha", c.alpha, "must satisfy 0 < alpha <= 1");
+    c.restitution = ConstantRestitution{c.alpha};
+  }
   const std::string thermostat =
       s.choice("thermostat", {"white_noise", "gaussian", "none"}, "white_noise");
   c.thermostat = thermostat == "gaussian" ? Thermostat::kGaussian
@@ -194,11 +242,16 @@ DsmcConfig read_dsmc(const Section& s) {
                         "none, not gaussian");
     if (c.majorant == MajorantKind::kPairwise)
       throw ConfigError(s.name("weights") + ": method swpm supports only majorant: global");
+    if (!is_constant(c.restitution))
+      throw ConfigError(s.name("weights") + ": method swpm supports only constant restitution "
+                        "(dsmc.alpha), not dsmc.restitution.law = " +
+                        std::visit([](const auto& l) { return std::string(l.kName); },
+                                   c.restitution));
   }
   if (c.majorant_auto) c.majorant = auto_majorant(c);
   s.finish({"particles", "scheme", "steps", "alpha", "beta", "thermostat", "gamma", "kernel",
             "initial", "t_end", "observe_every", "histogram", "majorant", "majorant_update",
-            "moments",
+            "moments", "restitution",
             "steady_from", "steady_ci", "weights"});
   return c;
 }
@@ -208,7 +261,10 @@ void emit_dsmc(YAML::Emitter& out, const DsmcConfig& c) {
   out << YAML::Key << "particles" << YAML::Value << c.particles;
   out << YAML::Key << "scheme" << YAML::Value << scheme_name(c.scheme);
   if (c.scheme != Scheme::kNoSplit) out << YAML::Key << "steps" << YAML::Value << c.steps;
-  out << YAML::Key << "alpha" << YAML::Value << format_real(c.alpha);
+  // Only a non-constant law is written as dsmc.restitution, in alpha's place: the text of every
+  // constant-alpha config stays as before (checkpoints and merge compare it).
+  if (is_constant(c.restitution)) out << YAML::Key << "alpha" << YAML::Value << format_real(c.alpha);
+  else emit_restitution(out, c.restitution);
   out << YAML::Key << "beta" << YAML::Value << format_real(c.beta);
   out << YAML::Key << "thermostat" << YAML::Value << thermostat_name(c.thermostat);
   out << YAML::Key << "gamma" << YAML::Value << format_real(c.kernel.gamma);

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "granboltz/physics/kernel.hpp"
+#include "granboltz/physics/restitution/laws.hpp"
 
 namespace YAML {
 class Emitter;
@@ -65,7 +66,10 @@ struct DsmcConfig {
   std::uint64_t particles = 0;  ///< n
   Scheme scheme = Scheme::kNoSplit;
   std::uint64_t steps = 0;  ///< K: time steps of the splitting schemes, dt = t_end / K
-  double alpha = 1.0;       ///< restitution coefficient, 0 < alpha <= 1
+  double alpha = 1.0;       ///< restitution coefficient, 0 < alpha <= 1 (the constant law)
+  /// dsmc.restitution: the law eps(g_n). ConstantRestitution{alpha} unless another law is given
+  /// (then alpha is 1 and unused).
+  RestitutionLaw restitution;
   double beta = 0.0;        ///< heating strength (white noise), >= 0
   Thermostat thermostat = Thermostat::kWhiteNoise;
   VhsKernel kernel;         ///< lambda, C, and gamma (the prefactor of the collision term)

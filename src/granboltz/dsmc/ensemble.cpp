@@ -6,6 +6,7 @@
 #include "granboltz/core/hot.hpp"
 #include "granboltz/physics/collision.hpp"
 #include "granboltz/physics/heating.hpp"
+#include "granboltz/physics/restitution/collide.hpp"
 #include "granboltz/random/samplers.hpp"
 #include "granboltz/record/engine_io.hpp"
 #include "granboltz/dsmc/particles_io.hpp"
@@ -288,6 +289,10 @@ template <int kHeat, int kLambda, bool kPairwise>
 bool DsmcEnsemble::run_nosplit(double s, const std::atomic<bool>* pause) {
   constexpr bool kHeated = kHeat == kNoise, kGaussian = kHeat == kGauss;
   const double alpha = c_.alpha, beta = c_.beta;
+  // Run-constant, so the branch below is always predicted: constant alpha keeps today's map.
+  // The law is a local copy: particle stores cannot alias it, so it stays in registers.
+  const bool constant_law = is_constant(c_.restitution);
+  const RestitutionLaw law = c_.restitution;
   // Local copies of the streams: kept in registers instead of being stored after every draw.
   Engine ev = events_, pairs = pairs_;
   EventCounts counts = counts_;  // in registers during the loop
@@ -327,7 +332,10 @@ bool DsmcEnsemble::run_nosplit(double s, const std::atomic<bool>* pause) {
     if (real) {
       double before = 0.0;
       if constexpr (kGaussian) before = norm2(a.v - v0_) + norm2(b.v - v0_);
-      collide(a.v, b.v, unit_vector(ev), alpha);  // step 2.9
+      if (constant_law) [[likely]]
+        collide(a.v, b.v, unit_vector(ev), alpha);  // step 2.9
+      else  // eps(g_n) at the true normal speed: the stored one times s under the Gaussian
+        collide_law(a.v, b.v, unit_vector(ev), law, kGaussian ? s2_ : 1.0);
       if constexpr (kGaussian)
         after_gaussian_collision<kLambda, kPairwise>(norm2(a.v - v0_) + norm2(b.v - v0_) - before);
       ++counts.collisions;
@@ -380,6 +388,8 @@ void DsmcEnsemble::kick_all_to(double s) {
 template <bool kGaussian, int kLambda, bool kPairwise>
 void DsmcEnsemble::collide_during(double h) {
   const double alpha = c_.alpha;
+  const bool constant_law = is_constant(c_.restitution);
+  const RestitutionLaw law = c_.restitution;
   Engine ev = events_, pairs = pairs_;
   EventCounts counts = counts_;
   double t = 0.0;
@@ -401,7 +411,10 @@ void DsmcEnsemble::collide_during(double h) {
     if (real) {
       double before = 0.0;
       if constexpr (kGaussian) before = norm2(a.v - v0_) + norm2(b.v - v0_);
-      collide(a.v, b.v, unit_vector(ev), alpha);
+      if (constant_law) [[likely]]
+        collide(a.v, b.v, unit_vector(ev), alpha);
+      else
+        collide_law(a.v, b.v, unit_vector(ev), law, kGaussian ? s2_ : 1.0);
       if constexpr (kGaussian)
         after_gaussian_collision<kLambda, kPairwise>(norm2(a.v - v0_) + norm2(b.v - v0_) - before);
       ++counts.collisions;
