@@ -15,10 +15,10 @@
 #include <variant>
 #include <vector>
 
-#include "granboltz/config/config.hpp"
-#include "granboltz/driver/estimate.hpp"
+#include "granboltz/app/config.hpp"
+#include "granboltz/app/estimate.hpp"
 #include "granboltz/dsmc/ensemble.hpp"
-#include "granboltz/io/hdf5_io.hpp"
+#include "granboltz/h5/hdf5_io.hpp"
 #include "granboltz/physics/collision.hpp"
 #include "granboltz/physics/restitution/collide.hpp"
 #include "granboltz/random/rng.hpp"

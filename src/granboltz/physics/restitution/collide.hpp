@@ -4,10 +4,10 @@
 #include <cmath>
 #include <variant>
 
-#include "granboltz/hot.hpp"
+#include "granboltz/core/hot.hpp"
 #include "granboltz/physics/collision.hpp"
 #include "granboltz/physics/restitution/laws.hpp"
-#include "granboltz/physics/vec3.hpp"
+#include "granboltz/core/vec3.hpp"
 
 namespace granboltz {
 

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <cstdint>
 
-#include "granboltz/hot.hpp"
+#include "granboltz/core/hot.hpp"
 
 namespace granboltz {
 
