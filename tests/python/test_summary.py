@@ -32,6 +32,10 @@ def outputs(tmp_path_factory):
     runs["independent"] = run(BASE / "dsmc.yaml", "independent", "--set", "dsmc.steady_from=0.2",
                               "--set", "dsmc.steady_ci=independent")
     runs["shard"] = run(BASE / "dsmc.yaml", "shard", "--set", "shard.count=2", "--set", "shard.index=1")
+    visco = tmp / "viscoelastic.yaml"
+    visco.write_text((BASE / "dsmc.yaml").read_text().replace(
+        "  alpha: 0.5\n", "  restitution: {law: viscoelastic, delta: 0.1}\n"))
+    runs["viscoelastic"] = run(visco, "viscoelastic")
     return runs
 
 
@@ -69,6 +73,11 @@ def test_an_independent_run_prints_the_batch_interval_beside_its_own(outputs):
     s = run.steady["temperature"]
     assert "steady (t > 0.2; ± ci (σ), estimator: independent, batch: blocking):" in text
     assert f"temperature = {format_pm(s.mean, s.ci)} (σ {s.sigma:.2f}, batch ± {s.batch.ci:.2f})" in text
+
+
+def test_a_restitution_law_is_named_in_place_of_alpha(outputs):
+    text = _short(repr(outputs["viscoelastic"]))
+    assert "viscoelastic restitution (delta = 0.1)" in text and "α =" not in text
 
 
 def test_a_shard_says_it_is_one(outputs):

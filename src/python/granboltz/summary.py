@@ -95,8 +95,11 @@ def summarize(run):
                                               "ensembles: merge the shards)")
     if run.model == "dsmc":
         d = cfg["dsmc"]
+        law = d.get("restitution")
+        restitution = (f"α = {d['alpha']:g}" if law is None else f"{law['law']} restitution (" +
+                       ", ".join(f"{k} = {v}" for k, v in law.items() if k != "law") + ")")
         lines.append(f"  dsmc: n = {d['particles']} particles, N = {run.ensembles} ensembles, {status}; "
-                     f"λ = {d['kernel']['lambda']:g}, α = {d['alpha']:g}, {d.get('thermostat', 'white_noise')}, "
+                     f"λ = {d['kernel']['lambda']:g}, {restitution}, {d.get('thermostat', 'white_noise')}, "
                      f"β = {d.get('beta', 0):g}")
         lines.append(f"  t = {run.time[0]:g} … {run.time[-1]:g}, {run.time.size} observation times")
     else:
