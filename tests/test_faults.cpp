@@ -252,33 +252,7 @@ dsmc:
   observe_every: 0.5
   histogram: {shells: 8, radius: 8}
 )");
-  const std::string reference = dir.file("reference.h5"), out = dir.file("out.h5");
-  expect_ok(run_granboltz("run " + cfg + " -q --threads 2 -o " + reference));
-  namespace fs = std::filesystem;
-  const std::string ckpt = out + ".checkpoint";
-  const pid_t pid = spawn_granboltz({"run", cfg, "-q", "--threads", "2", "-o", out});
-  // The hourly checkpoint is never due: only SIGTERM can make one. Signal once the run has its
-  // temporary output (the signal handler is installed before it is created).
-  for (int i = 0; i < 3000 && dir.entries() < 3; ++i)
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  std::this_thread::sleep_for(std::chrono::milliseconds(300));
-  ::kill(pid, SIGTERM);
-  int status = 0;
-  waitpid(pid, &status, 0);
-  ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
-  EXPECT_EQ(WEXITSTATUS(status), 128 + SIGTERM);
-  ASSERT_TRUE(fs::exists(ckpt)) << "no checkpoint written on SIGTERM";
-  {
-    H5Reader c(ckpt);
-    EXPECT_TRUE(c.exists("/in_progress")) << "no ensemble saved in progress";
-  }
-  EXPECT_FALSE(fs::exists(out));
-  EXPECT_EQ(dir.entries(), 3u);  // c.yaml, reference.h5, the checkpoint: no temporary output
-  const auto r = run_granboltz("run " + cfg + " --threads 2 -o " + out);
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("resuming from"), std::string::npos) << r.output;
-  granboltz::test::expect_identical_outputs(reference, out);
-  EXPECT_EQ(dir.entries(), 3u);  // c.yaml, reference.h5, out.h5
+  granboltz::test::expect_sigterm_resumes_identically(dir, cfg);
 }
 
 TEST(Checkpoint, SigtermToARunWithoutCheckpointsLeavesNothing) {

@@ -512,25 +512,5 @@ dsmc:
   observe_every: 0.5
   histogram: {shells: 8, radius: 8}
 )");
-  const std::string reference = dir.file("reference.h5"), out = dir.file("out.h5");
-  expect_ok(run_granboltz("run " + cfg + " -q --threads 2 -o " + reference));
-  namespace fs = std::filesystem;
-  const pid_t pid = test::spawn_granboltz({"run", cfg, "-q", "--threads", "2", "-o", out});
-  for (int i = 0; i < 3000 && dir.entries() < 3; ++i)
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  std::this_thread::sleep_for(std::chrono::milliseconds(300));
-  ::kill(pid, SIGTERM);
-  int status = 0;
-  waitpid(pid, &status, 0);
-  ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
-  EXPECT_EQ(WEXITSTATUS(status), 128 + SIGTERM);
-  ASSERT_TRUE(fs::exists(out + ".checkpoint")) << "no checkpoint written on SIGTERM";
-  {
-    H5Reader c(out + ".checkpoint");
-    EXPECT_TRUE(c.exists("/in_progress")) << "no ensemble saved in progress";
-  }
-  const auto r = run_granboltz("run " + cfg + " --threads 2 -o " + out);
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("resuming from"), std::string::npos) << r.output;
-  test::expect_identical_outputs(reference, out);
+  test::expect_sigterm_resumes_identically(dir, cfg);
 }

@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <array>
+#include <csignal>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -161,6 +162,40 @@ inline void flip_byte(const std::string& file, std::uint64_t at) {
   c = static_cast<char>(c ^ 0x10);
   io.seekp(static_cast<std::streamoff>(at));
   io.write(&c, 1);
+}
+
+/// A run of `cfg` (in `dir`, which holds only it) with checkpoints that never fall due, sent
+/// SIGTERM once under way: it must save its ensembles in progress, exit with 128 + SIGTERM and
+/// leave no output, and the same command must resume to the uninterrupted run's output.
+inline void expect_sigterm_resumes_identically(const TempDir& dir, const std::string& cfg) {
+  const std::string reference = dir.file("reference.h5"), out = dir.file("out.h5");
+  const auto whole = run_granboltz("run " + cfg + " -q --threads 2 -o " + reference);
+  ASSERT_EQ(whole.exit_code, 0) << whole.output;
+  namespace fs = std::filesystem;
+  const std::string ckpt = out + ".checkpoint";
+  const pid_t pid = spawn_granboltz({"run", cfg, "-q", "--threads", "2", "-o", out});
+  // The hourly checkpoint is never due: only SIGTERM can make one. Signal once the run has its
+  // temporary output (the signal handler is installed before it is created).
+  for (int i = 0; i < 3000 && dir.entries() < 3; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  ::kill(pid, SIGTERM);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
+  EXPECT_EQ(WEXITSTATUS(status), 128 + SIGTERM);
+  ASSERT_TRUE(fs::exists(ckpt)) << "no checkpoint written on SIGTERM";
+  {
+    H5Reader c(ckpt);
+    EXPECT_TRUE(c.exists("/in_progress")) << "no ensemble saved in progress";
+  }
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_EQ(dir.entries(), 3u);  // c.yaml, reference.h5, the checkpoint: no temporary output
+  const auto r = run_granboltz("run " + cfg + " --threads 2 -o " + out);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("resuming from"), std::string::npos) << r.output;
+  expect_identical_outputs(reference, out);
+  EXPECT_EQ(dir.entries(), 3u);  // c.yaml, reference.h5, out.h5
 }
 
 /// The tiny valid config of a model that the command-line cases break (tests/bad_inputs/base).
