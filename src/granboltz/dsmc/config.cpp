@@ -86,6 +86,13 @@ DsmcConfig read_dsmc(const Section& s) {
   DsmcConfig c;
   c.particles = s.integer("particles");
   s.check(c.particles >= 2, "particles", static_cast<double>(c.particles), "must be >= 2");
+  c.dimension = s.choice("dimension", {"2", "3"}, "3") == "2" ? 2 : 3;
+  c.kernel.area = c.dimension == 2 ? 2.0 * M_PI : 4.0 * M_PI;
+  // Hard disks need the impact law (uniform directions are another model there); in d = 3 the
+  // two are one law and the papers' name stays the default.
+  c.geometry = s.choice("geometry", {"impact", "uniform"}, c.dimension == 2 ? "impact" : "uniform") ==
+                       "impact"
+                   ? Geometry::kImpact : Geometry::kUniform;
   const std::string scheme = s.choice("scheme", {"nosplit", "euler", "strang"}, "nosplit");
   c.scheme = scheme == "euler" ? Scheme::kEuler
              : scheme == "strang" ? Scheme::kStrang : Scheme::kNoSplit;
@@ -242,6 +249,9 @@ DsmcConfig read_dsmc(const Section& s) {
                         "none, not gaussian");
     if (c.majorant == MajorantKind::kPairwise)
       throw ConfigError(s.name("weights") + ": method swpm supports only majorant: global");
+    if (c.dimension != 3)
+      throw ConfigError(s.name("weights") + ": method swpm supports only dimension 3, not " +
+                        std::to_string(c.dimension));
     if (!is_constant(c.restitution))
       throw ConfigError(s.name("weights") + ": method swpm supports only constant restitution "
                         "(dsmc.alpha), not dsmc.restitution.law = " +
@@ -249,7 +259,7 @@ DsmcConfig read_dsmc(const Section& s) {
                                    c.restitution));
   }
   if (c.majorant_auto) c.majorant = auto_majorant(c);
-  s.finish({"particles", "scheme", "steps", "alpha", "beta", "thermostat", "gamma", "kernel",
+  s.finish({"particles", "dimension", "geometry", "scheme", "steps", "alpha", "beta", "thermostat", "gamma", "kernel",
             "initial", "t_end", "observe_every", "histogram", "majorant", "majorant_update",
             "moments", "restitution",
             "steady_from", "steady_ci", "weights"});
@@ -259,6 +269,11 @@ DsmcConfig read_dsmc(const Section& s) {
 void emit_dsmc(YAML::Emitter& out, const DsmcConfig& c) {
   out << YAML::Key << "dsmc" << YAML::Value << YAML::BeginMap;
   out << YAML::Key << "particles" << YAML::Value << c.particles;
+  // Written only off the papers' default (d = 3, uniform): the text of every existing config stays.
+  if (c.dimension != 3 || c.geometry != Geometry::kUniform) {
+    out << YAML::Key << "dimension" << YAML::Value << c.dimension;
+    out << YAML::Key << "geometry" << YAML::Value << geometry_name(c.geometry);
+  }
   out << YAML::Key << "scheme" << YAML::Value << scheme_name(c.scheme);
   if (c.scheme != Scheme::kNoSplit) out << YAML::Key << "steps" << YAML::Value << c.steps;
   // Only a non-constant law is written as dsmc.restitution, in alpha's place: the text of every
@@ -315,6 +330,8 @@ void emit_dsmc(YAML::Emitter& out, const DsmcConfig& c) {
   }
   out << YAML::EndMap;
 }
+
+const char* geometry_name(Geometry g) { return g == Geometry::kImpact ? "impact" : "uniform"; }
 
 const char* majorant_name(MajorantKind m) {
   return m == MajorantKind::kPairwise ? "pairwise" : "global";

@@ -26,6 +26,11 @@ enum class MajorantUpdate { kPaper, kStrict };
 /// scaled variables); none: free cooling.
 enum class Thermostat { kWhiteNoise, kGaussian, kNone };
 
+/// dsmc.geometry: uniform draws GRW05's direction e uniformly on S^{d-1} (eq. 4); impact draws the
+/// impact normal with density proportional to (u^.n)+, the hard-sphere / hard-disk law. In d = 3
+/// they are the same law (physics/geometry.hpp); in d = 2 they differ.
+enum class Geometry { kUniform, kImpact };
+
 /// The most speed moments dsmc.moments may ask for: <|v - V|^{2p}>, p = 1..16.
 inline constexpr int kMaxMoments = 16;
 
@@ -64,6 +69,8 @@ struct WeightsSpec {
 
 struct DsmcConfig {
   std::uint64_t particles = 0;  ///< n
+  int dimension = 3;            ///< d: velocities in R^d (2: z = 0)
+  Geometry geometry = Geometry::kUniform;  ///< default impact in d = 2, uniform in d = 3
   Scheme scheme = Scheme::kNoSplit;
   std::uint64_t steps = 0;  ///< K: time steps of the splitting schemes, dt = t_end / K
   double alpha = 1.0;       ///< restitution coefficient, 0 < alpha <= 1 (the constant law)
@@ -99,6 +106,7 @@ const char* scheme_name(Scheme s);
 const char* thermostat_name(Thermostat t);
 const char* reduction_name(Reduction r);
 const char* majorant_name(MajorantKind m);
+const char* geometry_name(Geometry g);
 
 /// dsmc.majorant: auto picks pairwise up to this many particles (where the pairwise majorant is
 /// exact and faster; measured in `make bench`), global beyond.

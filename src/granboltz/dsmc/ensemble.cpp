@@ -5,6 +5,7 @@
 
 #include "granboltz/core/hot.hpp"
 #include "granboltz/physics/collision.hpp"
+#include "granboltz/physics/geometry.hpp"
 #include "granboltz/physics/heating.hpp"
 #include "granboltz/physics/restitution/collide.hpp"
 #include "granboltz/random/samplers.hpp"
@@ -58,7 +59,13 @@ DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, std::uint64_t seed, std::ui
   const double sd = std::sqrt(c_.initial_temperature);
   Vec3 sum;
   for (auto& q : p_) {
-    q.v = sd * normal3(init);
+    if (c_.dimension == 2) {
+      const double x = normal(init);
+      const double y = normal(init);
+      q.v = {sd * x, sd * y, 0.0};
+    } else {
+      q.v = sd * normal3(init);
+    }
     q.t = 0.0;
     sum += q.v;
   }
@@ -129,7 +136,7 @@ void DsmcEnsemble::fold_scale() {
   const Vec3 mean = (1.0 / n) * sum;
   double k = 0.0;
   for (const auto& q : p_) k += norm2(q.v - mean);
-  const double f = std::sqrt(3.0 * n * c_.initial_temperature / k);
+  const double f = std::sqrt(static_cast<double>(c_.dimension) * n * c_.initial_temperature / k);
   double e = 0.0;
   for (auto& q : p_) {
     q.v = v0_ + f * (q.v - mean);
@@ -227,9 +234,10 @@ void DsmcEnsemble::reweigh_all() {
 }
 
 void DsmcEnsemble::set_pairwise_rate() {
-  // pi_hat = (1/2n) sum_{i != j} 4 pi gamma C (w_i + w_j) = 4 pi gamma C (n - 1) W / n.
+  // pi_hat = (1/2n) sum_{i != j} 4 pi gamma C (w_i + w_j) = 4 pi gamma C (n - 1) W / n (area
+  // 2 pi for the 4 pi in d = 2).
   const double n = static_cast<double>(p_.size());
-  pairwise_rate_factor_ = 4.0 * M_PI * c_.kernel.gamma * c_.kernel.C * (n - 1.0) / n;
+  pairwise_rate_factor_ = c_.kernel.area * c_.kernel.gamma * c_.kernel.C * (n - 1.0) / n;
   inv_rate_ = 1.0 / (pairwise_rate_factor_ * w_sum_);
 }
 
@@ -285,7 +293,7 @@ GRANBOLTZ_HOT DsmcEnsemble::Pair DsmcEnsemble::select_pair(Engine& pairs) {
 
 // ---- Schemes ----
 
-template <int kHeat, int kLambda, bool kPairwise>
+template <int kHeat, int kLambda, bool kPairwise, class G>
 bool DsmcEnsemble::run_nosplit(double s, const std::atomic<bool>* pause) {
   constexpr bool kHeated = kHeat == kNoise, kGaussian = kHeat == kGauss;
   const double alpha = c_.alpha, beta = c_.beta;
@@ -315,7 +323,7 @@ bool DsmcEnsemble::run_nosplit(double s, const std::atomic<bool>* pause) {
     double bound = 0.0;
     if constexpr (kPairwise) bound = w_[pair.i] + w_[pair.j];
     if constexpr (kHeated) {  // step 2.5: kick both partners up to the event time
-      white_noise_kick2(a.v, t_ - a.t, b.v, t_ - b.t, beta, ev);
+      white_noise_kick2<G::kDim>(a.v, t_ - a.t, b.v, t_ - b.t, beta, ev);
       a.t = t_;
       b.t = t_;
       counts.kicks += 2;
@@ -333,9 +341,9 @@ bool DsmcEnsemble::run_nosplit(double s, const std::atomic<bool>* pause) {
       double before = 0.0;
       if constexpr (kGaussian) before = norm2(a.v - v0_) + norm2(b.v - v0_);
       if (constant_law) [[likely]]
-        collide(a.v, b.v, unit_vector(ev), alpha);  // step 2.9
+        collide(a.v, b.v, G::direction(a.v - b.v, ev), alpha);  // step 2.9
       else  // eps(g_n) at the true normal speed: the stored one times s under the Gaussian
-        collide_law(a.v, b.v, unit_vector(ev), law, kGaussian ? s2_ : 1.0);
+        collide_law(a.v, b.v, G::direction(a.v - b.v, ev), law, kGaussian ? s2_ : 1.0);
       if constexpr (kGaussian)
         after_gaussian_collision<kLambda, kPairwise>(norm2(a.v - v0_) + norm2(b.v - v0_) - before);
       ++counts.collisions;
@@ -369,12 +377,17 @@ void DsmcEnsemble::kick_all_to(double s) {
   if (heated_) {
     Engine sweep = sweep_;
     const std::size_t n = p_.size();
+    const bool plane = c_.dimension == 2;
     for (std::size_t k = 0; k + 1 < n; k += 2) {
-      white_noise_kick2(p_[k].v, s - p_[k].t, p_[k + 1].v, s - p_[k + 1].t, c_.beta, sweep);
+      if (plane)
+        white_noise_kick2<2>(p_[k].v, s - p_[k].t, p_[k + 1].v, s - p_[k + 1].t, c_.beta, sweep);
+      else
+        white_noise_kick2(p_[k].v, s - p_[k].t, p_[k + 1].v, s - p_[k + 1].t, c_.beta, sweep);
       p_[k].t = p_[k + 1].t = s;
     }
     if (n % 2) {
-      p_[n - 1].v = white_noise_kick(p_[n - 1].v, c_.beta, s - p_[n - 1].t, sweep);
+      p_[n - 1].v = plane ? white_noise_kick_2d(p_[n - 1].v, c_.beta, s - p_[n - 1].t, sweep)
+                          : white_noise_kick(p_[n - 1].v, c_.beta, s - p_[n - 1].t, sweep);
       p_[n - 1].t = s;
     }
     sweep_ = sweep;
@@ -385,7 +398,7 @@ void DsmcEnsemble::kick_all_to(double s) {
   }
 }
 
-template <bool kGaussian, int kLambda, bool kPairwise>
+template <bool kGaussian, int kLambda, bool kPairwise, class G>
 void DsmcEnsemble::collide_during(double h) {
   const double alpha = c_.alpha;
   const bool constant_law = is_constant(c_.restitution);
@@ -412,9 +425,9 @@ void DsmcEnsemble::collide_during(double h) {
       double before = 0.0;
       if constexpr (kGaussian) before = norm2(a.v - v0_) + norm2(b.v - v0_);
       if (constant_law) [[likely]]
-        collide(a.v, b.v, unit_vector(ev), alpha);
+        collide(a.v, b.v, G::direction(a.v - b.v, ev), alpha);
       else
-        collide_law(a.v, b.v, unit_vector(ev), law, kGaussian ? s2_ : 1.0);
+        collide_law(a.v, b.v, G::direction(a.v - b.v, ev), law, kGaussian ? s2_ : 1.0);
       if constexpr (kGaussian)
         after_gaussian_collision<kLambda, kPairwise>(norm2(a.v - v0_) + norm2(b.v - v0_) - before);
       ++counts.collisions;
@@ -448,6 +461,21 @@ void DsmcEnsemble::kick_all_by(double h) {
   const double sd = std::sqrt(2.0 * c_.beta * h);
   constexpr std::size_t kBlock = 256;  // particles per block (an even number)
   alignas(64) double z[3 * kBlock];
+  if (c_.dimension == 2) {  // two normals per particle, z stays 0
+    for (std::size_t start = 0; start < n; start += kBlock) {
+      const std::size_t m = std::min(kBlock, n - start);
+      for (std::size_t k = 0; k < m; ++k) normal_pair(sweep, z[2 * k], z[2 * k + 1]);
+      Particle* q = p_.data() + start;
+      for (std::size_t k = 0; k < m; ++k) {
+        q[k].v.x += sd * z[2 * k];
+        q[k].v.y += sd * z[2 * k + 1];
+      }
+    }
+    sweep_ = sweep;
+    counts_.kicks += p_.size();
+    adapt_majorant_all();
+    return;
+  }
   for (std::size_t start = 0; start < n; start += kBlock) {
     const std::size_t m = std::min(kBlock, n - start);
     const std::size_t pairs = 3 * (m - m % 2) / 2;
@@ -469,22 +497,31 @@ void DsmcEnsemble::kick_all_by(double h) {
 }
 
 namespace {
-// Calls f.template operator()<kLambda, kPairwise>() for the runtime lambda case and majorant.
-template <class F>
-void dispatch(int lc, bool pairwise, F&& f) {
+// Calls f.template operator()<kLambda, kPairwise, G>() for the runtime lambda case, majorant
+// and geometry.
+template <class G, class F>
+void dispatch_kernel(int lc, bool pairwise, F&& f) {
   if (pairwise) {
     switch (lc) {
-      case kHardSpheres: return f.template operator()<kHardSpheres, true>();
-      case kHalf: return f.template operator()<kHalf, true>();
-      default: return f.template operator()<kGeneral, true>();
+      case kHardSpheres: return f.template operator()<kHardSpheres, true, G>();
+      case kHalf: return f.template operator()<kHalf, true, G>();
+      default: return f.template operator()<kGeneral, true, G>();
     }
   }
   switch (lc) {
-    case kMaxwell: return f.template operator()<kMaxwell, false>();
-    case kHardSpheres: return f.template operator()<kHardSpheres, false>();
-    case kHalf: return f.template operator()<kHalf, false>();
-    default: return f.template operator()<kGeneral, false>();
+    case kMaxwell: return f.template operator()<kMaxwell, false, G>();
+    case kHardSpheres: return f.template operator()<kHardSpheres, false, G>();
+    case kHalf: return f.template operator()<kHalf, false, G>();
+    default: return f.template operator()<kGeneral, false, G>();
   }
+}
+
+template <class F>
+void dispatch(const DsmcConfig& c, int lc, bool pairwise, F&& f) {
+  // In d = 3 both geometries are GRW05's uniform e (physics/geometry.hpp).
+  if (c.dimension == 3) return dispatch_kernel<Sphere3>(lc, pairwise, f);
+  if (c.geometry == Geometry::kImpact) return dispatch_kernel<CircleImpact>(lc, pairwise, f);
+  return dispatch_kernel<CircleUniform>(lc, pairwise, f);
 }
 }  // namespace
 
@@ -492,19 +529,19 @@ bool DsmcEnsemble::advance_to(double s, const std::atomic<bool>* pause) {
   const int lc = lambda_case(c_.kernel.lambda);
   if (c_.scheme == Scheme::kNoSplit) {
     bool reached = true;
-    dispatch(lc, pairwise_, [&]<int L, bool P>() {
-      reached = heated_     ? run_nosplit<kNoise, L, P>(s, pause)
-                : gaussian_ ? run_nosplit<kGauss, L, P>(s, pause)
-                            : run_nosplit<kFree, L, P>(s, pause);
+    dispatch(c_, lc, pairwise_, [&]<int L, bool P, class G>() {
+      reached = heated_     ? run_nosplit<kNoise, L, P, G>(s, pause)
+                : gaussian_ ? run_nosplit<kGauss, L, P, G>(s, pause)
+                            : run_nosplit<kFree, L, P, G>(s, pause);
     });
     if (!reached) return false;
     kick_all_to(s);  // step 3.1 / Remark 2
     t_ = s;
   } else {
     auto collide_for = [&](double h) {
-      dispatch(lc, pairwise_, [&]<int L, bool P>() {
-        if (gaussian_) collide_during<true, L, P>(h);
-        else collide_during<false, L, P>(h);
+      dispatch(c_, lc, pairwise_, [&]<int L, bool P, class G>() {
+        if (gaussian_) collide_during<true, L, P, G>(h);
+        else collide_during<false, L, P, G>(h);
       });
     };
     const double dt = c_.time_step();
@@ -623,6 +660,10 @@ DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, const H5Reader& in, const s
   if (!(scalars[4] >= 0.0)) refuse("a negative majorant u_max");
   for (const Particle& q : p_)
     if (!(q.t >= 0.0 && q.t <= scalars[0])) refuse("a particle's time outside [0, t]");
+  if (c_.dimension == 2)
+    for (const Particle& q : p_)
+      if (q.v.z != 0.0) refuse("a particle with v_z != 0 in dimension 2");
+  if (c_.dimension == 2 && scalars[3] != 0.0) refuse("a bulk velocity with V_z != 0 in dimension 2");
   for (unsigned k = 0; k < kLookahead; ++k)
     if (ring_index[2 * k] >= n || ring_index[2 * k + 1] >= n) refuse("a pair index out of range");
   if (counters[4] > 2 * n) refuse("a sweep countdown beyond 2n");

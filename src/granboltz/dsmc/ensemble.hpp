@@ -64,9 +64,10 @@ class DsmcEnsemble {
 
   // The event loops, specialised by what happens between and after collisions.
   static constexpr int kFree = 0, kNoise = 1, kGauss = 2;
-  template <int kHeat, int kLambda, bool kPairwise>
+  // G: the collision geometry (physics/geometry.hpp), which also fixes the dimension.
+  template <int kHeat, int kLambda, bool kPairwise, class G>
   bool run_nosplit(double s, const std::atomic<bool>* pause);
-  template <bool kGaussian, int kLambda, bool kPairwise>
+  template <bool kGaussian, int kLambda, bool kPairwise, class G>
   void collide_during(double h);  // collision step of length h (splitting schemes)
   // Gaussian thermostat: the stored velocities w relate to the true ones by v = V + s (w - V),
   // V = v0_, s^2 = target_ / energy_ (collisions commute with this map).

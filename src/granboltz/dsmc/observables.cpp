@@ -53,7 +53,16 @@ CentralSums central_sums(std::span<const Particle> particles, Vec3 V, int moment
 }  // namespace
 
 double crit(double temperature, const double* pressure, const double* heat_flux,
-            double fourth_moment) {
+            double fourth_moment, int dimension) {
+  const double T = temperature;
+  if (dimension == 2) {
+    const double p = (pressure[0] + pressure[4]) / 2.0;
+    const double d0 = pressure[0] - p, d1 = pressure[4] - p;
+    const double frob = d0 * d0 + d1 * d1 + 2.0 * pressure[1] * pressure[1];
+    const double q2 = heat_flux[0] * heat_flux[0] + heat_flux[1] * heat_flux[1];
+    return std::sqrt(0.5 * frob + 2.0 / (4.0 * T) * q2 +
+                     fourth_moment * fourth_moment / (64.0 * T * T)) / T;
+  }
   const double p = (pressure[0] + pressure[4] + pressure[8]) / 3.0;
   double frob = 0.0;
   for (int a = 0; a < 3; ++a)
@@ -63,14 +72,14 @@ double crit(double temperature, const double* pressure, const double* heat_flux,
     }
   const double q2 = heat_flux[0] * heat_flux[0] + heat_flux[1] * heat_flux[1] +
                     heat_flux[2] * heat_flux[2];
-  const double T = temperature;
   return std::sqrt(0.5 * frob + 2.0 / (5.0 * T) * q2 +
                    fourth_moment * fourth_moment / (120.0 * T * T)) / T;
 }
 
 std::string moment_name(int p) { return "moment_" + std::to_string(2 * p); }
 
-Observation measure(std::span<const Particle> particles, std::span<double> moments) {
+Observation measure(std::span<const Particle> particles, std::span<double> moments,
+                    int dimension) {
   if (moments.size() > static_cast<std::size_t>(kMaxMoments))
     throw std::logic_error("measure: more than kMaxMoments speed moments");
   const std::size_t moment_count = moments.size();
@@ -103,12 +112,14 @@ Observation measure(std::span<const Particle> particles, std::span<double> momen
   P[1] = P[3] = cc[3] * inv_n;
   P[2] = P[6] = cc[4] * inv_n;
   P[5] = P[7] = cc[5] * inv_n;
-  const double T = (P[0] + P[4] + P[8]) / 3.0;
+  // d = 2: P[8] = 0 exactly (v_z = 0), so the traces are the same sums.
+  const double d = static_cast<double>(dimension);
+  const double T = (P[0] + P[4] + P[8]) / d;
   o[4] = T;
   for (int a = 0; a < 3; ++a) o[14 + a] = 0.5 * flux[a] * inv_n;
-  o[17] = c4 * inv_n - 15.0 * T * T;
-  o[18] = crit(T, P, &o[14], o[17]);
-  o[19] = T + norm2(V) / 3.0;
+  o[17] = c4 * inv_n - d * (d + 2.0) * T * T;
+  o[18] = crit(T, P, &o[14], o[17], dimension);
+  o[19] = T + norm2(V) / d;
   return o;
 }
 

@@ -25,13 +25,13 @@ struct ObservableInfo {
 inline constexpr ObservableInfo kObservables[] = {
     {"density", 0, 0, "number density rho (particle weights 1/n: always 1)"},
     {"bulk_velocity", 1, 1, "V = m / rho (GRW05 eq. 12)"},
-    {"temperature", 4, 0, "T = (tr M - rho |V|^2) / (3 rho) (GRW05 eq. 13)"},
+    {"temperature", 4, 0, "T = (tr M - rho |V|^2) / (d rho) (GRW05 eq. 13 in d dimensions)"},
     {"pressure_tensor", 5, 2, "P = int (v-V)(v-V)^T f dv"},
     {"heat_flux", 14, 1, "q = 1/2 int (v-V) |v-V|^2 f dv"},
-    {"fourth_moment", 17, 0, "gamma = int |v-V|^4 f dv - 15 T^2 (RW05 §4.1)"},
+    {"fourth_moment", 17, 0, "gamma = int |v-V|^4 f dv - d(d+2) T^2 (RW05 §4.1; 15 T^2 in d = 3)"},
     {"crit", 18, 0, "deviation from the Maxwellian, Crit (RW05 eq. 29)"},
     {"temperature_uncentred", 19, 0,
-     "(1/3) int |v|^2 f dv = T + |V|^2/3: the estimator phi(v) = |v|^2/3 of RW05 §4.1, "
+     "(1/d) int |v|^2 f dv = T + |V|^2/d: the estimator phi(v) = |v|^2/3 of RW05 §4.1, "
      "behind the published error tables"},
 };
 
@@ -44,14 +44,17 @@ inline constexpr double kMomentLimit = 1e150;
 std::string moment_name(int p);
 
 /// All moments of the empirical measure (1/n) sum delta_{v_j}, computed in two passes about the
-/// bulk velocity. If `moments` is not empty (at most kMaxMoments entries), moments[p - 1] receives
+/// bulk velocity, for velocities in R^d (d = 2: v_z = 0, and the z rows of P, q are 0). If `moments` is not empty (at most kMaxMoments entries), moments[p - 1] receives
 /// the speed moment <|v - V|^{2p}> = (1/n) sum_j |v_j - V|^{2p}, p = 1..moments.size(), summed in
 /// the second pass; the other observables do not depend on it.
-Observation measure(std::span<const Particle> particles, std::span<double> moments = {});
+Observation measure(std::span<const Particle> particles, std::span<double> moments = {},
+                    int dimension = 3);
 
-/// Crit(t) of RW05 eq. (29) from the central moments.
+/// Crit(t) of RW05 eq. (29) from the central moments. In d dimensions each term is normalised by
+/// its Maxwellian variance as in d = 3: 1/2 |P - p I|^2/T^2 + 2/(d+2) |q|^2/T^3 +
+/// gamma^2/(8 d (d+2) T^4) (p = tr P/d; d = 3 gives 2/5 and 1/120).
 double crit(double temperature, const double* pressure, const double* heat_flux,
-            double fourth_moment);
+            double fourth_moment, int dimension = 3);
 
 /// Adds the radial histogram counts of r_j = |v_j - c| to counts[0..K]: shell k < K holds
 /// k h <= r < (k+1) h, h = R/K (GRW05 eq. 37), shell K holds r >= R. The center c is the bulk

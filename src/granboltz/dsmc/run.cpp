@@ -363,7 +363,7 @@ void run_dsmc(const DsmcRunConfig& config, const DriverOptions& options, Record&
           component_histogram_weighted(we.particles(), we.weights(), d.histogram, V,
                                        &w.wcomp[m * K1], &w.comp[m * K1]);
       } else {
-        w.obs[m] = measure(w.ensemble->particles(), {w.moments.data() + m * P, P});
+        w.obs[m] = measure(w.ensemble->particles(), {w.moments.data() + m * P, P}, d.dimension);
         const Vec3 V{w.obs[m][1], w.obs[m][2], w.obs[m][3]};
         if (K1) radial_histogram(w.ensemble->particles(), d.histogram, V, &w.hist[m * K1]);
         if (!w.comp.empty())
@@ -556,7 +556,7 @@ void write_speed_moments(H5Writer& out, const std::string& prefix,
 
 namespace {
 
-/// a2 = d/(d+2) M4/M2^2 - 1 and a3 = 1 + 3 a2 - d^2/((d+2)(d+4)) M6/M2^3 (d = 3) at the ensemble
+/// a2 = d/(d+2) M4/M2^2 - 1 and a3 = 1 + 3 a2 - d^2/((d+2)(d+4)) M6/M2^3 at the ensemble
 /// means of M2, M4, M6, and their variances by the delta method, g^T Cov g / N with the
 /// covariance of the ensembles' (M2, M4, M6): a ratio of means, not a mean of ratios, so that
 /// neither is biased by the noise of one ensemble's M2.
@@ -566,7 +566,7 @@ struct Sonine {
   double a2 = 0.0, a3 = 0.0, var_a2 = 0.0, var_a3 = 0.0, bias_a2 = 0.0, bias_a3 = 0.0;
 };
 Sonine sonine(const Moments2* M, const Moments2* cross, std::uint64_t P, std::uint64_t N,
-              bool sample_covariance) {
+              bool sample_covariance, int dimension) {
   Sonine r;
   const double n = static_cast<double>(N);
   const int q = P >= 3 ? 3 : 2;
@@ -594,7 +594,9 @@ Sonine sonine(const Moments2* M, const Moments2* cross, std::uint64_t P, std::ui
       for (int j = 0; j < q; ++j) b += H[i][j] * cov[i][j];
     return 0.5 * b / n;
   };
-  const double c2 = 3.0 / 5.0, c3 = 9.0 / 35.0, m2 = mu[0], m4 = mu[1], m6 = mu[2];
+  const bool plane = dimension == 2;
+  const double c2 = plane ? 2.0 / 4.0 : 3.0 / 5.0, c3 = plane ? 4.0 / 24.0 : 9.0 / 35.0;
+  const double m2 = mu[0], m4 = mu[1], m6 = mu[2];
   r.a2 = c2 * m4 / (m2 * m2) - 1.0;
   const double g2[3] = {-2.0 * c2 * m4 / (m2 * m2 * m2), c2 / (m2 * m2), 0.0};
   r.var_a2 = variance(g2);
@@ -632,18 +634,28 @@ const char* const kA3Description =
     "a3 = 1 + 3 a2 - 9/35 M6/M2^3, the third Sonine coefficient from the ensemble means of the "
     "speed moments (d = 3); ci by the delta method over the ensembles; bias: the ratio "
     "estimator's leading 1/N bias (second-order delta method), not subtracted from mean";
+const char* const kA2Description2 =
+    "a2 = 1/2 M4/M2^2 - 1, the second Sonine coefficient from the ensemble means of the speed "
+    "moments (d = 2); ci by the delta method over the ensembles; bias: the ratio estimator's "
+    "leading 1/N bias (second-order delta method), not subtracted from mean";
+const char* const kA3Description2 =
+    "a3 = 1 + 3 a2 - 1/6 M6/M2^3, the third Sonine coefficient from the ensemble means of the "
+    "speed moments (d = 2); ci by the delta method over the ensembles; bias: the ratio "
+    "estimator's leading 1/N bias (second-order delta method), not subtracted from mean";
 
 void write_sonine(H5Writer& out, const DsmcRunConfig& config, const Record& record) {
   const DsmcConfig& d = config.dsmc;
   const auto P = static_cast<std::uint64_t>(d.moments);
   const std::uint64_t C = cross_pairs(P), N = record.ensembles();
   if (!C || N == 0) return;
+  const std::string a2_text = d.dimension == 2 ? kA2Description2 : kA2Description;
+  const std::string a3_text = d.dimension == 2 ? kA3Description2 : kA3Description;
   const std::uint64_t rows = d.observations() + 1;
   const auto& series = record.moments("moment_series");
   const auto& cross = record.moments("moment_cross");
   std::vector<double> a2(rows), a2ci(rows), a2bias(rows), a3(rows), a3ci(rows), a3bias(rows);
   for (std::uint64_t m = 0; m < rows; ++m) {
-    const Sonine s = sonine(&series[m * P], &cross[m * C], P, N, false);
+    const Sonine s = sonine(&series[m * P], &cross[m * C], P, N, false, d.dimension);
     a2[m] = s.a2;
     a2ci[m] = kLambdaP * std::sqrt(s.var_a2);
     a2bias[m] = s.bias_a2;
@@ -654,17 +666,17 @@ void write_sonine(H5Writer& out, const DsmcRunConfig& config, const Record& reco
   out.write("/a2/mean", a2, {rows});
   out.write("/a2/ci", a2ci, {rows});
   out.write("/a2/bias", a2bias, {rows});
-  out.attr("/a2", "description", std::string(kA2Description));
+  out.attr("/a2", "description", a2_text);
   if (P >= 3) {
     out.write("/a3/mean", a3, {rows});
     out.write("/a3/ci", a3ci, {rows});
     out.write("/a3/bias", a3bias, {rows});
-    out.attr("/a3", "description", std::string(kA3Description));
+    out.attr("/a3", "description", a3_text);
   }
   if (!d.steady) return;
   // Steady: each ensemble's time averages of M2, M4, M6 are one independent sample.
   const Sonine s = sonine(&record.moments("steady_ensemble")[kNumScalars],
-                          record.moments("steady_moment_cross").data(), P, N, true);
+                          record.moments("steady_moment_cross").data(), P, N, true, d.dimension);
   const double factor = confidence_factor(static_cast<double>(N) - 1);
   for (int which = 2; which <= (P >= 3 ? 3 : 2); ++which) {
     const std::string g = "/steady/a" + std::to_string(which);
@@ -673,7 +685,7 @@ void write_sonine(H5Writer& out, const DsmcRunConfig& config, const Record& reco
     out.write(g + "/sigma", std::vector<double>{sigma}, {});
     out.write(g + "/ci", std::vector<double>{factor * sigma}, {});
     out.write(g + "/bias", std::vector<double>{which == 2 ? s.bias_a2 : s.bias_a3}, {});
-    out.attr(g, "description", std::string(which == 2 ? kA2Description : kA3Description));
+    out.attr(g, "description", which == 2 ? a2_text : a3_text);
     out.attr(g, "estimator", std::string("ensembles"));
     out.attr(g, "samples", record.total("steady_samples"));
     out.attr(g, "from", d.steady_from);

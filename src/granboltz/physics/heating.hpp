@@ -14,9 +14,27 @@ inline Vec3 white_noise_kick(Vec3 v, double beta, double s, E& eng) {
   return v + std::sqrt(2.0 * beta * s) * normal3(eng);
 }
 
-/// Kicks two velocities, over the times sa and sb, with six normals from (usually) three draws.
+/// The same in the plane (d = 2): z stays 0.
 template <class E>
+inline Vec3 white_noise_kick_2d(Vec3 v, double beta, double s, E& eng) {
+  const double k = std::sqrt(2.0 * beta * s);
+  const double a = normal(eng);
+  const double b = normal(eng);
+  return {v.x + k * a, v.y + k * b, v.z};
+}
+
+/// Kicks two velocities, over the times sa and sb, with 2d normals from (usually) d draws.
+template <int D = 3, class E>
 GRANBOLTZ_HOT void white_noise_kick2(Vec3& a, double sa, Vec3& b, double sb, double beta, E& eng) {
+  if constexpr (D == 2) {
+    double n[4];
+    normal_pair(eng, n[0], n[1]);
+    normal_pair(eng, n[2], n[3]);
+    const double ka = std::sqrt(2.0 * beta * sa), kb = std::sqrt(2.0 * beta * sb);
+    a.x += ka * n[0], a.y += ka * n[1];
+    b.x += kb * n[2], b.y += kb * n[3];
+    return;
+  }
   double n[6];
   normal_pair(eng, n[0], n[1]);
   normal_pair(eng, n[2], n[3]);

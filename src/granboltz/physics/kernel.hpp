@@ -9,6 +9,9 @@ struct VhsKernel {
   double lambda = 0.0;  ///< 0: Maxwell pseudo-molecules, 1: hard spheres
   double C = 1.0;       ///< C_lambda
   double gamma = 1.0;   ///< prefactor of the collision term
+  /// |S^{d-1}| = 4 pi (d = 3) or 2 pi (d = 2): B is C |u|^lambda per unit of solid angle, so the
+  /// loss rate of a particle is area gamma C <|v - w|^lambda>.
+  double area = 4.0 * M_PI;
 
   /// s^lambda without pow() for the common cases lambda = 0 and lambda = 1.
   double power(double s) const {
@@ -19,9 +22,10 @@ struct VhsKernel {
   }
 
   /// Total rate of the majorant process for n particles and maximal relative speed u_max:
-  /// pi_hat = 2 pi gamma C (n - 1) u_max^lambda (GRW05 §4, RW05 eq. 20).
+  /// pi_hat = 2 pi gamma C (n - 1) u_max^lambda (GRW05 §4, RW05 eq. 20) in d = 3, with area/2 for
+  /// 2 pi in d dimensions.
   double majorant_rate(double n, double u_max) const {
-    return 2.0 * M_PI * gamma * C * (n - 1.0) * power(u_max);
+    return 0.5 * area * gamma * C * (n - 1.0) * power(u_max);
   }
 
   /// Probability that a candidate pair with relative speed u is a real collision, given the
