@@ -197,3 +197,23 @@ def test_a_file_that_is_not_hdf5_is_named(tmp_path):
     path.write_text("not HDF5")
     with pytest.raises(RunReadError, match=r"not\.h5: cannot read the file"):
         read_run(path)
+
+
+def test_a_run_in_the_plane_reads_with_its_dimension_and_zero_z_entries(tmp_path):
+    plane = {**TINY, "dsmc": {**TINY["dsmc"], "dimension": 2}}
+    run = read_run(simulate(tmp_path, plane, "plane"))
+    assert run.dimension == 2 and read_run(simulate(tmp_path, TINY, "space")).dimension == 3
+    assert np.all(run.bulk_velocity.mean[:, 2] == 0)
+    assert np.all(run.pressure_tensor.mean[:, 2, :] == 0) and np.all(run.pressure_tensor.mean[:, :, 2] == 0)
+    # T = tr P / d, and the histogram's fractions over the shell areas integrate to 1
+    P = run.pressure_tensor.mean
+    assert np.allclose(run.temperature.mean, (P[:, 0, 0] + P[:, 1, 1]) / 2, rtol=1e-12)
+    from granboltz.tails import shell_measure
+
+    hist = run.histograms["histogram"]
+    f = hist["mean"][-1, :-1] / shell_measure(hist["edges"], 2)
+    assert np.isclose(np.sum(f * shell_measure(hist["edges"], 2)) + hist["mean"][-1, -1], 1.0)
+    assert np.allclose(shell_measure([0.0, 1.0, 2.0], 2), [np.pi, 3 * np.pi])
+    assert np.allclose(shell_measure([0.0, 1.0], 3), [4 * np.pi / 3])
+    with pytest.raises(ValueError, match="dimension must be 2 or 3"):
+        shell_measure([0.0, 1.0], 4)

@@ -87,8 +87,10 @@ double ns_per_dsmc_event(double n, MajorantKind m) {
                                       : interpolate_log(n, global, 2);
 }
 
-// E|u|^p for u Gaussian in 3-D with variance s2 per component: (2 s2)^(p/2) G((3+p)/2) / G(3/2).
-double gaussian_moment(double s2, double p) {
+// E|u|^p for u Gaussian in d dimensions with variance s2 per component:
+// (2 s2)^(p/2) G((d+p)/2) / G(d/2).
+double gaussian_moment(double s2, double p, int d = 3) {
+  if (d == 2) return std::pow(2.0 * s2, 0.5 * p) * std::tgamma(0.5 * (2.0 + p));
   return std::pow(2.0 * s2, 0.5 * p) * std::tgamma(0.5 * (3.0 + p)) / std::tgamma(1.5);
 }
 
@@ -117,11 +119,25 @@ double chi3_expected_max(double N) {
   return x + 0.5772156649 / std::exp(log_pdf - chi3_log_tail(x));
 }
 
+// The same for a 2-D standard Gaussian: P(|x| > r) = e^(-r^2/2), so the 1 - 1/N quantile is
+// sqrt(2 ln N) and N pdf = r there.
+double chi2_expected_max(double N) {
+  if (N < 2) return std::sqrt(M_PI / 2.0);
+  if (!std::isfinite(N)) return HUGE_VAL;
+  const double x = std::sqrt(2.0 * std::log(N));
+  return x + 0.5772156649 / x;
+}
+
+double chi_expected_max(double N, int d) {
+  return d == 2 ? chi2_expected_max(N) : chi3_expected_max(N);
+}
+
 // The share of a Maxwellian's collisional energy loss that inelasticity keeps, as it enters the
 // moment equation: <|u|^lambda g_n^2 (1 - eps(g_n)^2)> / <|u|^lambda g_n^2> over relative
 // velocities at temperature T (u = sqrt(T) r, r with density r^2 e^(-r^2/4)) and impact normals
 // (g_n^2 = |u|^2 z, z = (1 - u.e/|u|)/2 uniform on [0, 1]). It is 1 - alpha^2 for constant alpha;
-// for a law of g_n it depends on T (the Maxwellian approximation, as for constant alpha).
+// for a law of g_n it depends on T (the Maxwellian approximation, as for constant alpha). In
+// d = 2 the same 3-D average stands in (an estimate).
 // Midpoint sums: 64 x 32 points, below 1e-4 relative for the viscoelastic law.
 double inelastic_fraction(const RestitutionLaw& law, double lambda, double T) {
   constexpr int kR = 64, kZ = 32;
@@ -159,8 +175,15 @@ DsmcEvents dsmc_events(const DsmcConfig& d, double ensembles) {
   const double steps = split ? static_cast<double>(d.steps) : 0.0;
   // dT/dt = heat - B T^(1 + lambda/2): white noise heats by 2 beta, collisions cool (the moment
   // equation of a Maxwellian); the Gaussian thermostat holds T at T0, so both are 0 there.
+  // In d dimensions B = area/(8d) <1 - u^.e> gamma C (1 - alpha^2) (n-1)/n E|u|^(2+lambda): pi/6
+  // in d = 3; pi/8 times <1 - u^.e> = 1 (uniform) or 4/3 (hard-disk impacts) in d = 2.
+  const int dim = d.dimension;
+  const double loss_geometry =
+      dim == 2 ? (d.geometry == Geometry::kImpact ? 4.0 / 3.0 : 1.0) / 8.0 : 1.0 / 6.0;
   const double heat = heated ? 2.0 * d.beta : 0.0;
   const double B = gaussian ? 0.0
+                   : dim == 2 ? M_PI * loss_geometry * gc * (1.0 - d.alpha * d.alpha) * (n - 1.0) / n *
+                                    gaussian_moment(2.0, 2.0 + lambda, 2)
                             : M_PI * gc * (1.0 - d.alpha * d.alpha) * (n - 1.0) / (6.0 * n) *
                                   gaussian_moment(2.0, 2.0 + lambda);
   // A law of g_n (viscoelastic): the same equation with 1 - alpha^2 replaced by its Maxwellian
@@ -168,19 +191,23 @@ DsmcEvents dsmc_events(const DsmcConfig& d, double ensembles) {
   // event counts for a given T(t) do not depend on the law.
   const bool constant_law = is_constant(d.restitution);
   const double B1 = gaussian ? 0.0
+                    : dim == 2 ? M_PI * loss_geometry * gc * (n - 1.0) / n *
+                                     gaussian_moment(2.0, 2.0 + lambda, 2)
                              : M_PI * gc * (n - 1.0) / (6.0 * n) * gaussian_moment(2.0, 2.0 + lambda);
   auto B_at = [&](double T_now) {
     return constant_law || gaussian ? B : B1 * inelastic_fraction(d.restitution, lambda, T_now);
   };
   const double p = 0.5 * lambda;
   // Real collisions at 2 pi gamma C (n-1) E|u|^lambda = A T^(lambda/2); pairwise candidates at
-  // 4 pi gamma C (n-1) E|v-V|^lambda = Ap T^(lambda/2); global ones at 2 pi gamma C (n-1) U^lambda.
-  const double A = 2.0 * M_PI * gc * (n - 1.0) * gaussian_moment(2.0, lambda);
-  const double Ap = 4.0 * M_PI * gc * (n - 1.0) * gaussian_moment(1.0, lambda);
-  const double Ag = 2.0 * M_PI * gc * (n - 1.0);
+  // 4 pi gamma C (n-1) E|v-V|^lambda = Ap T^(lambda/2); global ones at 2 pi gamma C (n-1) U^lambda
+  // (area/2 and area for 2 pi and 4 pi in d dimensions).
+  const double area = d.kernel.area;
+  const double A = 0.5 * area * gc * (n - 1.0) * gaussian_moment(2.0, lambda, dim);
+  const double Ap = area * gc * (n - 1.0) * gaussian_moment(1.0, lambda, dim);
+  const double Ag = 0.5 * area * gc * (n - 1.0);
   const double factor = d.majorant_update == MajorantUpdate::kStrict ? 2.0 : 1.0;
   const double T0 = d.initial_temperature;
-  const double u0 = 2.0 * std::sqrt(T0) * chi3_expected_max(n);  // GRW05 step 1.4
+  const double u0 = 2.0 * std::sqrt(T0) * chi_expected_max(n, dim);  // GRW05 step 1.4
   const bool tracks_max = !pairwise && lambda > 0.0;
   DsmcEvents e;
   double T = T0, t = 0.0, T_peak = T0, u_max = u0;
@@ -249,7 +276,7 @@ DsmcEvents dsmc_events(const DsmcConfig& d, double ensembles) {
     // U_max follows the largest |v - V| the update has seen, Maxwellian at the highest
     // temperature reached so far.
     if (tracks_max)
-      u_max = std::max(u_max, factor * std::sqrt(T_peak) * chi3_expected_max(seen(t)));
+      u_max = std::max(u_max, factor * std::sqrt(T_peak) * chi_expected_max(seen(t), dim));
     e.candidates += 0.5 * h * (c0 + candidate_rate(T, u_max));
     if (!std::isfinite(e.candidates)) break;
   }

@@ -158,6 +158,14 @@ class Run:
         return int(index), int(count)
 
     @property
+    def dimension(self):
+        """d of a DSMC run (dsmc.dimension: 3 unless the config says 2); None for TV06 runs.
+        In d = 2 every vector and tensor keeps its 3-D shape with zero z entries."""
+        if self.model != "dsmc":
+            return None
+        return int(self.config.get("dsmc", {}).get("dimension", 3))
+
+    @property
     def complete(self):
         """False for a single shard (its means cover only its ensembles; merge the shards with
         `granboltz merge`), True otherwise."""

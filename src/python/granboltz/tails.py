@@ -7,6 +7,18 @@ import math
 import numpy as np
 
 
+def shell_measure(edges, dimension=3):
+    """The measure of the velocity shells r_{k-1} <= |v| < r_k of a radial histogram in d
+    dimensions: 4 pi (r_k^3 - r_{k-1}^3)/3 (d = 3) or pi (r_k^2 - r_{k-1}^2) (d = 2). A shell's
+    fraction over it estimates f at |v| = r_k."""
+    edges = np.asarray(edges, float)
+    if dimension == 2:
+        return math.pi * (edges[1:] ** 2 - edges[:-1] ** 2)
+    if dimension == 3:
+        return 4.0 * math.pi / 3.0 * (edges[1:] ** 3 - edges[:-1] ** 3)
+    raise ValueError(f"dimension must be 2 or 3, not {dimension!r}")
+
+
 # ----------------------------------------------------------------------------- GRW05 §5.3 tails
 def kernel_name(lam):
     """The kernel's name in the published tail table."""
@@ -27,7 +39,7 @@ def tail_points(hist, k0, min_count, histogram="density", row=-1):
     f, counts = hist["mean"][row, :-1], hist["counts"][row, :-1]
     if histogram == "density":
         edges = hist["edges"]
-        f = f / (4.0 * math.pi / 3.0 * (edges[1:] ** 3 - edges[:-1] ** 3))
+        f = f / shell_measure(edges, 3)
     elif histogram != "fraction":
         raise ValueError(f"histogram must be density or fraction, not {histogram!r}")
     if counts[k0 - 1] < min_count or f[k0 - 1] <= 0:
