@@ -4,10 +4,13 @@ old and new alternating, so that both see the same minutes of a shared, noisy ma
 
     bench/ab_cpu.py OLD NEW CONFIG [--repeat 9] [--set key=value ...]
 
-Prints the median CPU time of each and the median of the paired ratios new/old.
+Prints the median CPU time of each, the median of the paired ratios new/old and its 95 %
+bootstrap interval (10^4 resamples of the pairs, fixed seed). The gate for a refactor: it fails if
+the interval's lower end exceeds 1.03; an interval that straddles 1.03 needs more repetitions.
 """
 import argparse
 import os
+import random
 import statistics
 import subprocess
 import tempfile
@@ -39,8 +42,14 @@ def main():
             for label in ("old", "new"):
                 times[label].append(cpu_seconds(getattr(a, label), a.config, a.sets, out))
     old, new = statistics.median(times["old"]), statistics.median(times["new"])
-    paired = statistics.median(n / o for o, n in zip(times["old"], times["new"]))
-    print(f"CPU old {old:.3f} s, new {new:.3f} s (medians of {a.repeat}); paired new/old {paired:.3f}")
+    ratios = [n / o for o, n in zip(times["old"], times["new"])]
+    paired = statistics.median(ratios)
+    rng = random.Random(1)
+    boot = sorted(statistics.median(rng.choices(ratios, k=len(ratios))) for _ in range(10000))
+    lo, hi = boot[249], boot[9749]
+    verdict = "slower (fails)" if lo > 1.03 else "undecided: repeat more" if hi > 1.03 else "within 3 %"
+    print(f"CPU old {old:.3f} s, new {new:.3f} s (medians of {a.repeat}); paired new/old {paired:.3f} "
+          f"[{lo:.3f}, {hi:.3f}] 95 % bootstrap: {verdict}")
 
 
 if __name__ == "__main__":

@@ -252,11 +252,6 @@ DsmcConfig read_dsmc(const Section& s) {
     if (c.dimension != 3)
       throw ConfigError(s.name("weights") + ": method swpm supports only dimension 3, not " +
                         std::to_string(c.dimension));
-    if (!is_constant(c.restitution))
-      throw ConfigError(s.name("weights") + ": method swpm supports only constant restitution "
-                        "(dsmc.alpha), not dsmc.restitution.law = " +
-                        std::visit([](const auto& l) { return std::string(l.kName); },
-                                   c.restitution));
   }
   if (c.majorant_auto) c.majorant = auto_majorant(c);
   s.finish({"particles", "dimension", "geometry", "scheme", "steps", "alpha", "beta", "thermostat", "gamma", "kernel",

@@ -8,6 +8,7 @@
 #include "granboltz/config/reader.hpp"
 #include "granboltz/physics/collision.hpp"
 #include "granboltz/physics/heating.hpp"
+#include "granboltz/physics/restitution/collide.hpp"
 #include "granboltz/random/samplers.hpp"
 #include "granboltz/record/engine_io.hpp"
 #include "granboltz/dsmc/particles_io.hpp"
@@ -83,10 +84,10 @@ Vec3 weighted_heat_flux(std::span<const Particle> p, std::span<const double> g) 
   return q;
 }
 
-int weighted_collide(Particles& p, std::vector<double>& g, std::size_t a, std::size_t b, Vec3 e,
-                     double alpha, double kappa, double t) {
-  Vec3 va = p[a].v, vb = p[b].v;
-  collide(va, vb, e, alpha);
+namespace {
+// The weights' part of a weighted collision, given the post-collision velocities.
+int replace_or_append(Particles& p, std::vector<double>& g, std::size_t a, std::size_t b, Vec3 va,
+                      Vec3 vb, double kappa, double t) {
   // gamma = min(g_a, g_b)/(1 + kappa): for kappa = 0 the lighter partner's remainder is exactly
   // 0 (x - x/1 = x - x), and with equal weights both are replaced: ordinary DSMC.
   const double gamma = std::min(g[a], g[b]) / (1.0 + kappa);
@@ -108,6 +109,23 @@ int weighted_collide(Particles& p, std::vector<double>& g, std::size_t a, std::s
     }
   }
   return appended;
+}
+}  // namespace
+
+int weighted_collide(Particles& p, std::vector<double>& g, std::size_t a, std::size_t b, Vec3 e,
+                     double alpha, double kappa, double t) {
+  Vec3 va = p[a].v, vb = p[b].v;
+  collide(va, vb, e, alpha);
+  return replace_or_append(p, g, a, b, va, vb, kappa, t);
+}
+
+int weighted_collide(Particles& p, std::vector<double>& g, std::size_t a, std::size_t b, Vec3 e,
+                     const RestitutionLaw& law, double kappa, double t) {
+  if (const auto* k = std::get_if<ConstantRestitution>(&law))
+    return weighted_collide(p, g, a, b, e, k->alpha, kappa, t);
+  Vec3 va = p[a].v, vb = p[b].v;
+  collide_law(va, vb, e, law, 1.0);  // no lazy scale: SWPM has no Gaussian thermostat
+  return replace_or_append(p, g, a, b, va, vb, kappa, t);
 }
 
 void merge_group(Particles& p, std::vector<double>& g, std::span<const std::uint32_t> members,
@@ -410,6 +428,7 @@ void WeightedEnsemble::split_sweep() {
 
 bool WeightedEnsemble::advance_to(double s, const std::atomic<bool>* pause) {
   const double alpha = c_.alpha, beta = c_.beta, kappa = c_.weights.kappa;
+  const bool constant_law = is_constant(c_.restitution);
   const bool maxwell = c_.kernel.lambda == 0.0;
   const double K = 4.0 * M_PI * c_.kernel.gamma * c_.kernel.C * (1.0 + kappa);
   std::uint64_t events = 0;
@@ -453,7 +472,10 @@ bool WeightedEnsemble::advance_to(double s, const std::atomic<bool>* pause) {
                           (maxwell ? 1.0 : c_.kernel.acceptance(norm(a.v - b.v), u_max_));
     if (uniform01(events_) < accept) {
       const std::size_t before = p_.size();
-      weighted_collide(p_, g_, i, j, unit_vector(events_), alpha, kappa, t_);
+      if (constant_law) [[likely]]
+        weighted_collide(p_, g_, i, j, unit_vector(events_), alpha, kappa, t_);
+      else
+        weighted_collide(p_, g_, i, j, unit_vector(events_), c_.restitution, kappa, t_);
       tree_.set(i, g_[i]);
       tree_.set(j, g_[j]);
       for (std::size_t k = before; k < p_.size(); ++k) tree_.set(k, g_[k]);

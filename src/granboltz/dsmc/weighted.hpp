@@ -53,6 +53,10 @@ Vec3 weighted_heat_flux(std::span<const Particle> p, std::span<const double> g);
 /// gamma * energy_change(v_a, v_b, e, alpha) (exactly 0 for alpha = 1), all to round-off.
 int weighted_collide(Particles& p, std::vector<double>& g, std::size_t a, std::size_t b, Vec3 e,
                      double alpha, double kappa, double t);
+/// The same with a restitution law eps(g_n) (restitution/collide.hpp): the constant law is the
+/// call above with its alpha, bit for bit.
+int weighted_collide(Particles& p, std::vector<double>& g, std::size_t a, std::size_t b, Vec3 e,
+                     const RestitutionLaw& law, double kappa, double t);
 
 /// Replaces the group `members` (at least 3 particles) by two particles that keep its mass,
 /// momentum and energy, and for kHeatFlux also its central heat flux, placed in the first two
