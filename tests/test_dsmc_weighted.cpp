@@ -588,3 +588,72 @@ dsmc:
                                         " --set dsmc.weights.kappa=1 --set ensembles=2");
   EXPECT_EQ(fine.exit_code, 0) << fine.output;
 }
+
+TEST(WeightedReduction, InThePlaneMergesKeepTheMomentsAndZeroZ) {
+  // d = 2: an energy merge places its pair along a direction in the plane, so v_z stays 0 and
+  // mass, momentum and energy are kept as in d = 3.
+  Engine eng = make_stream(4, 0, Consumer::kEvents);
+  for (Reduction r : {Reduction::kEnergy, Reduction::kHeatFlux}) {
+    Particles p(3000);
+    std::vector<double> g(3000, 1.0 / 3000);
+    for (auto& q : p) {
+      const double x = normal(eng), y = normal(eng);
+      q.v = {x, y, 0.0};
+    }
+    const WeightedMoments m0 = weighted_moments(p, g);
+    Engine red = make_stream(4, 0, Consumer::kReduce);
+    reduce_particles(p, g, 1500, r, red, 2);
+    EXPECT_LE(p.size(), 1500u);
+    const WeightedMoments m1 = weighted_moments(p, g);
+    EXPECT_NEAR(m1.mass, m0.mass, roundoff(1.0, 3000));
+    expect_near3(m1.momentum, m0.momentum, roundoff(3.0, 3000), "momentum");
+    EXPECT_NEAR(m1.energy, m0.energy, roundoff(3.0, 3000) * 4);
+    for (const Particle& q : p) ASSERT_EQ(q.v.z, 0.0);
+  }
+}
+
+TEST(WeightedEnsemble, InThePlaneAgreesWithConstantWeights) {
+  // Hard disks heated by white noise: SWPM (kappa = 1, splitting of weights at every collision,
+  // reductions at N_max) and constant weights solve the same equation, so the steady T and a2
+  // agree within the quadrature sum of the two intervals (each GRW05's lambda_p = 3.2
+  // half-width: a 99.9 % test), and both have v_z = 0.
+  auto ok = [](const test::CommandResult& r) { ASSERT_EQ(r.exit_code, 0) << r.output; };
+  test::TempDir dir;
+  const std::string cfg = dir.write("c.yaml", R"(model: dsmc
+seed: 3
+ensembles: 16
+dsmc:
+  particles: 500
+  dimension: 2
+  alpha: 0.5
+  beta: 1.0
+  kernel: {lambda: 1, C: 0.15915494309189535}
+  t_end: 12
+  observe_every: 1
+  steady_from: 4
+  moments: 3
+)");
+  const std::string a = dir.file("a.h5"), b = dir.file("b.h5");
+  ok(test::run_granboltz("run " + cfg + " -q -o " + a));
+  ok(test::run_granboltz("run " + cfg +
+                         " -q --set 'dsmc.weights={method: swpm, kappa: 1, max_particles: 1500}' -o " + b));
+  H5Reader ra(a), rb(b);
+  for (const std::string obs : {"temperature", "a2"}) {
+    const double x = ra.read_double("/steady/" + obs + "/mean")[0],
+                 y = rb.read_double("/steady/" + obs + "/mean")[0];
+    const double cx = ra.read_double("/steady/" + obs + "/ci")[0],
+                 cy = rb.read_double("/steady/" + obs + "/ci")[0];
+    std::printf("disks, steady %s: constant weights %.4f +- %.4f, SWPM %.4f +- %.4f\n", obs.c_str(),
+                x, cx, y, cy);
+    EXPECT_NEAR(x, y, std::hypot(cx, cy)) << obs;
+  }
+  // T against the white-noise balance 2 beta = zeta T of hard disks (Maxwellian, a2 neglected):
+  // T^(3/2) = 2 beta / (pi^(3/2) gamma C (1 - alpha^2)) = 2 / (pi^(3/2) 0.75 / (2 pi)): within
+  // 3 |a2|/16 ~ 1 % and the interval, so the test tells d = 2 from d = 3 rates (4 pi: T 2^(-2/3)).
+  const double T_theory = std::pow(2.0 / (std::pow(M_PI, 1.5) * 0.15915494309189535 * 0.75), 2.0 / 3.0);
+  const double T = rb.read_double("/steady/temperature/mean")[0],
+               ci = rb.read_double("/steady/temperature/ci")[0];
+  EXPECT_NEAR(T, T_theory, ci + 0.02 * T_theory);
+  const auto V = rb.read_double("/bulk_velocity/mean");
+  for (std::size_t k = 2; k < V.size(); k += 3) EXPECT_EQ(V[k], 0.0);
+}

@@ -249,9 +249,6 @@ DsmcConfig read_dsmc(const Section& s) {
                         "none, not gaussian");
     if (c.majorant == MajorantKind::kPairwise)
       throw ConfigError(s.name("weights") + ": method swpm supports only majorant: global");
-    if (c.dimension != 3)
-      throw ConfigError(s.name("weights") + ": method swpm supports only dimension 3, not " +
-                        std::to_string(c.dimension));
   }
   if (c.majorant_auto) c.majorant = auto_majorant(c);
   s.finish({"particles", "dimension", "geometry", "scheme", "steps", "alpha", "beta", "thermostat", "gamma", "kernel",

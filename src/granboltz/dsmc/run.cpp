@@ -354,7 +354,8 @@ void run_dsmc(const DsmcRunConfig& config, const DriverOptions& options, Record&
         }
       if (w.weighted) {
         const WeightedEnsemble& we = *w.weighted;
-        w.obs[m] = measure_weighted(we.particles(), we.weights(), {w.moments.data() + m * P, P});
+        w.obs[m] = measure_weighted(we.particles(), we.weights(), {w.moments.data() + m * P, P},
+                                    d.dimension);
         const Vec3 V{w.obs[m][1], w.obs[m][2], w.obs[m][3]};
         if (K1)
           radial_histogram_weighted(we.particles(), we.weights(), d.histogram, V,

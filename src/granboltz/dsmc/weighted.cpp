@@ -7,6 +7,7 @@
 
 #include "granboltz/config/reader.hpp"
 #include "granboltz/physics/collision.hpp"
+#include "granboltz/physics/geometry.hpp"
 #include "granboltz/physics/heating.hpp"
 #include "granboltz/physics/restitution/collide.hpp"
 #include "granboltz/random/samplers.hpp"
@@ -182,7 +183,7 @@ void compact(Particles& p, std::vector<double>& g) {
 }  // namespace
 
 void reduce_particles(Particles& p, std::vector<double>& g, std::size_t target,
-                      Reduction reduction, Engine& eng) {
+                      Reduction reduction, Engine& eng, int dimension) {
   target = std::max<std::size_t>(target, 2);
   if (p.size() <= target) return;
   double G = 0.0;
@@ -191,7 +192,8 @@ void reduce_particles(Particles& p, std::vector<double>& g, std::size_t target,
   const Vec3 V = (1.0 / G) * M;
   double E = 0.0;
   for (std::size_t i = 0; i < p.size(); ++i) E += g[i] * norm2(p[i].v - V);
-  const double h0 = 0.5 * std::sqrt(std::max(E / (3.0 * G), 1e-300));
+  const double h0 =
+      0.5 * std::sqrt(std::max(E / (static_cast<double>(dimension) * G), 1e-300));
   double h = h0;
   // A merged group weighs at most w_cap = 8 G / target: merging whole crowded cells again and
   // again would concentrate the mass on a few heavy particles (the effective number 1/sum g^2
@@ -240,7 +242,8 @@ void reduce_particles(Particles& p, std::vector<double>& g, std::size_t target,
           continue;
         }
         if (members.size() >= 3) {
-          merge_group(p, g, members, reduction, unit_vector(eng));
+          // The direction of an energy merge: isotropic in the velocity space (the plane in d = 2).
+          merge_group(p, g, members, reduction, dimension == 2 ? unit_circle(eng) : unit_vector(eng));
           count -= members.size() - 2;
         }
         members.clear();
@@ -338,7 +341,13 @@ WeightedEnsemble::WeightedEnsemble(const DsmcConfig& config, std::uint64_t seed,
   const double sd = std::sqrt(c_.initial_temperature);
   Vec3 sum;
   for (auto& q : p_) {
-    q.v = sd * normal3(init);
+    if (c_.dimension == 2) {  // the same draws as the constant-weight engine's
+      const double x = normal(init);
+      const double y = normal(init);
+      q.v = {sd * x, sd * y, 0.0};
+    } else {
+      q.v = sd * normal3(init);
+    }
     q.t = 0.0;
     sum += q.v;
   }
@@ -365,7 +374,8 @@ void WeightedEnsemble::adapt_majorant(const Vec3& v) {
 void WeightedEnsemble::kick_all_to(double s) {
   if (heated_) {
     for (auto& q : p_) {
-      q.v = white_noise_kick(q.v, c_.beta, s - q.t, sweep_);
+      q.v = c_.dimension == 2 ? white_noise_kick_2d(q.v, c_.beta, s - q.t, sweep_)
+                              : white_noise_kick(q.v, c_.beta, s - q.t, sweep_);
       q.t = s;
     }
     counts_.kicks += p_.size();
@@ -381,7 +391,7 @@ void WeightedEnsemble::reduce_to_cap() {
   kick_all_to(t_);  // a group is merged at one time
   reduce_particles(p_, g_,
                    static_cast<std::size_t>(kReduceTo * static_cast<double>(c_.weights.max_particles)),
-                   c_.weights.reduction, reduce_);
+                   c_.weights.reduction, reduce_, c_.dimension);
   ++reductions_;
   check_weights();
 }
@@ -430,7 +440,14 @@ bool WeightedEnsemble::advance_to(double s, const std::atomic<bool>* pause) {
   const double alpha = c_.alpha, beta = c_.beta, kappa = c_.weights.kappa;
   const bool constant_law = is_constant(c_.restitution);
   const bool maxwell = c_.kernel.lambda == 0.0;
-  const double K = 4.0 * M_PI * c_.kernel.gamma * c_.kernel.C * (1.0 + kappa);
+  const double K = c_.kernel.area * c_.kernel.gamma * c_.kernel.C * (1.0 + kappa);  // 4 pi in d = 3
+  const int dim = c_.dimension;
+  const bool disks = dim == 2 && c_.geometry == Geometry::kImpact;
+  // The direction of GRW05's map for the pair's relative velocity (physics/geometry.hpp).
+  const auto direction = [&](Vec3 u) {
+    return dim == 3 ? unit_vector(events_) : disks ? disk_impact_direction(u, events_)
+                                                   : unit_circle(events_);
+  };
   std::uint64_t events = 0;
   for (;;) {
     if (pause && (events & kPauseMask) == 0 && pause->load(std::memory_order_relaxed))
@@ -462,7 +479,8 @@ bool WeightedEnsemble::advance_to(double s, const std::atomic<bool>* pause) {
     Particle& a = p_[i];
     Particle& b = p_[j];
     if (heated_) {
-      white_noise_kick2(a.v, t_ - a.t, b.v, t_ - b.t, beta, events_);
+      if (dim == 2) white_noise_kick2<2>(a.v, t_ - a.t, b.v, t_ - b.t, beta, events_);
+      else white_noise_kick2(a.v, t_ - a.t, b.v, t_ - b.t, beta, events_);
       a.t = b.t = t_;
       counts_.kicks += 2;
       if (!maxwell) adapt_majorant(a.v), adapt_majorant(b.v);
@@ -473,9 +491,9 @@ bool WeightedEnsemble::advance_to(double s, const std::atomic<bool>* pause) {
     if (uniform01(events_) < accept) {
       const std::size_t before = p_.size();
       if (constant_law) [[likely]]
-        weighted_collide(p_, g_, i, j, unit_vector(events_), alpha, kappa, t_);
+        weighted_collide(p_, g_, i, j, direction(a.v - b.v), alpha, kappa, t_);
       else
-        weighted_collide(p_, g_, i, j, unit_vector(events_), c_.restitution, kappa, t_);
+        weighted_collide(p_, g_, i, j, direction(a.v - b.v), c_.restitution, kappa, t_);
       tree_.set(i, g_[i]);
       tree_.set(j, g_[j]);
       for (std::size_t k = before; k < p_.size(); ++k) tree_.set(k, g_[k]);
@@ -547,6 +565,10 @@ WeightedEnsemble::WeightedEnsemble(const DsmcConfig& config, const H5Reader& in,
   if (!(scalars[4] >= 0.0) || !(scalars[5] >= 0.0)) refuse("a negative u_max or split scale");
   for (const Particle& q : p_)
     if (!(q.t >= 0.0 && q.t <= scalars[0])) refuse("a particle's time outside [0, t]");
+  if (config.dimension == 2)
+    for (const Particle& q : p_)
+      if (q.v.z != 0.0) refuse("a particle with v_z != 0 in dimension 2");
+  if (config.dimension == 2 && scalars[3] != 0.0) refuse("a bulk velocity with V_z != 0 in dimension 2");
   t_ = scalars[0];
   v0_ = {scalars[1], scalars[2], scalars[3]};
   u_max_ = scalars[4];
@@ -560,7 +582,8 @@ WeightedEnsemble::WeightedEnsemble(const DsmcConfig& config, const H5Reader& in,
 // ---- Observers ----
 
 Observation measure_weighted(std::span<const Particle> p, std::span<const double> g,
-                             std::span<double> moments) {
+                             std::span<double> moments,
+                             int dimension) {
   if (moments.size() > static_cast<std::size_t>(kMaxMoments))
     throw std::logic_error("measure_weighted: more than kMaxMoments speed moments");
   const std::size_t P = moments.size();
@@ -605,12 +628,13 @@ Observation measure_weighted(std::span<const Particle> p, std::span<const double
   Pm[1] = Pm[3] = cc[3];
   Pm[2] = Pm[6] = cc[4];
   Pm[5] = Pm[7] = cc[5];
-  const double T = (Pm[0] + Pm[4] + Pm[8]) / (3.0 * rho);
+  const double d = static_cast<double>(dimension);
+  const double T = (Pm[0] + Pm[4] + Pm[8]) / (d * rho);
   o[4] = T;
   for (int a = 0; a < 3; ++a) o[14 + a] = 0.5 * flux[a];
-  o[17] = c4 - 15.0 * T * T;
-  o[18] = crit(T, Pm, &o[14], o[17]);
-  o[19] = T + norm2(V) / 3.0;
+  o[17] = c4 - d * (d + 2.0) * T * T;
+  o[18] = crit(T, Pm, &o[14], o[17], dimension);
+  o[19] = T + norm2(V) / d;
   return o;
 }
 

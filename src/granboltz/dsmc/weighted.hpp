@@ -71,7 +71,7 @@ void merge_group(Particles& p, std::vector<double>& g, std::span<const std::uint
 /// first, so that sparse cells, the light tail particles among them, survive. Removes the
 /// zero-weight slots. Deterministic given the particles and the engine.
 void reduce_particles(Particles& p, std::vector<double>& g, std::size_t target,
-                      Reduction reduction, Engine& eng);
+                      Reduction reduction, Engine& eng, int dimension = 3);
 
 /// What one split sweep did: particles added as copies, particles removed by roulette.
 struct SplitCounts {
@@ -145,7 +145,8 @@ class WeightedEnsemble {
 /// sum_j g_j delta_{v_j}; o[0] is the density sum g (1 to round-off). The histogram adds the
 /// weights per shell to `weight` and the particle numbers per shell to `count`.
 Observation measure_weighted(std::span<const Particle> p, std::span<const double> g,
-                             std::span<double> moments = {});
+                             std::span<double> moments = {},
+                             int dimension = 3);
 void radial_histogram_weighted(std::span<const Particle> p, std::span<const double> g,
                                const HistogramSpec& spec, Vec3 V, double* weight,
                                std::uint64_t* count);
