@@ -670,15 +670,13 @@ TEST(Dimension, BadDimensionOrGeometryGivesOneLineErrors) {
       {{"dsmc.dimension=2.0"}, "dsmc.dimension = 2.0: must be one of 2, 3"},
       {{"dsmc.geometry=bogus"}, "dsmc.geometry = bogus: must be one of impact, uniform"},
       {{"dsmc.geometry=[1]"}, "dsmc.geometry = [...]: must be one of impact, uniform"},
-      {{"dsmc.weights={method: swpm, kappa: 0, max_particles: 1000}"},
-       "dsmc.weights: method swpm supports only dimension 3, not 2"},
   };
   for (const auto& [sets, message] : cases) {
     const std::string e = error(sets);
     EXPECT_EQ(e, message) << sets[0];
     EXPECT_EQ(e.find('\n'), std::string::npos) << sets[0];
   }
-  // The same weights are accepted in d = 3 (the refusal is the dimension's).
-  EXPECT_EQ(error({"dsmc.dimension=3", "dsmc.weights={method: swpm, kappa: 0, max_particles: 1000}"}),
-            "");
+  // Weighted particles run in either dimension.
+  for (const char* d : {"dsmc.dimension=2", "dsmc.dimension=3"})
+    EXPECT_EQ(error({d, "dsmc.weights={method: swpm, kappa: 0, max_particles: 1000}"}), "");
 }

@@ -1,5 +1,5 @@
 #pragma once
-// A collision with a restitution law that depends on the normal relative speed (d = 3).
+// A collision with a restitution law that depends on the normal relative speed (any d).
 #include <algorithm>
 #include <cmath>
 #include <variant>
@@ -12,8 +12,9 @@
 namespace granboltz {
 
 /// The normal relative speed squared, g_n^2 = (u.n)^2 = |u|^2 (1 - u.e/|u|)/2, for the impact
-/// normal n = (u/|u| - e)/|u/|u| - e| that GRW05's direction e stands for in d = 3 (its density
-/// is proportional to u.n, that of hard-sphere impacts).
+/// normal n = (u/|u| - e)/|u/|u| - e| that GRW05's direction e stands for, in any dimension (in
+/// d = 3 with e uniform its density is proportional to u.n, that of hard-sphere impacts;
+/// physics/geometry.hpp).
 GRANBOLTZ_HOT double normal_speed2(Vec3 v, Vec3 w, Vec3 e) {
   const Vec3 u = v - w;
   const double u2 = norm2(u);
