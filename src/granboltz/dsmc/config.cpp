@@ -65,15 +65,6 @@ const char* scheme_name(Scheme s) {
   return "?";
 }
 
-const char* thermostat_name(Thermostat t) {
-  switch (t) {
-    case Thermostat::kWhiteNoise: return "white_noise";
-    case Thermostat::kGaussian: return "gaussian";
-    case Thermostat::kNone: return "none";
-  }
-  return "?";
-}
-
 const char* reduction_name(Reduction r) {
   return r == Reduction::kHeatFlux ? "heat_flux" : "energy";
 }
@@ -109,10 +100,12 @@ DsmcConfig read_dsmc(const Section& s) {
     s.check(c.alpha > 0 && c.alpha <= 1, "alpha", c.alpha, "must satisfy 0 < alpha <= 1");
     c.restitution = ConstantRestitution{c.alpha};
   }
-  const std::string thermostat =
-      s.choice("thermostat", {"white_noise", "gaussian", "none"}, "white_noise");
-  c.thermostat = thermostat == "gaussian" ? Thermostat::kGaussian
-                 : thermostat == "none"   ? Thermostat::kNone : Thermostat::kWhiteNoise;
+  std::vector<std::string> thermostats;  // the registry's names, in its order
+  ThermostatList::each([&](auto th) { thermostats.emplace_back(decltype(th)::kName); });
+  const std::string thermostat = s.choice("thermostat", thermostats, "white_noise");
+  ThermostatList::each([&](auto th) {
+    if (thermostat == decltype(th)::kName) c.thermostat = decltype(th)::kId;
+  });
   if (c.thermostat == Thermostat::kWhiteNoise) {
     c.beta = s.real("beta");
     s.check(c.beta >= 0, "beta", c.beta, "must be >= 0 (0 is free cooling)");

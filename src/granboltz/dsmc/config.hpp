@@ -6,6 +6,7 @@
 
 #include "granboltz/physics/kernel.hpp"
 #include "granboltz/physics/restitution/laws.hpp"
+#include "granboltz/physics/thermostat/list.hpp"
 
 namespace YAML {
 class Emitter;
@@ -21,10 +22,6 @@ enum class MajorantKind { kGlobal, kPairwise };
 /// paper: U_max := max(U_max, |v_i - V|, |v_j - V|) (GRW05 2.7/2.10, RW05 eq. 21), the
 /// truncated kernel of RW05 eq. (19); strict: U_max := max(U_max, 2|v_i - V|, 2|v_j - V|).
 enum class MajorantUpdate { kPaper, kStrict };
-/// white_noise: heating by white noise of strength beta (the papers; beta = 0 is free cooling);
-/// gaussian: all peculiar velocities rescaled so that T stays T0 (the homogeneous cooling state in
-/// scaled variables); none: free cooling.
-enum class Thermostat { kWhiteNoise, kGaussian, kNone };
 
 /// dsmc.geometry: uniform draws GRW05's direction e uniformly on S^{d-1} (eq. 4); impact draws the
 /// impact normal with density proportional to (u^.n)+, the hard-sphere / hard-disk law. In d = 3
@@ -103,7 +100,6 @@ struct DsmcConfig {
 DsmcConfig read_dsmc(const Section& s);
 void emit_dsmc(YAML::Emitter& out, const DsmcConfig& c);
 const char* scheme_name(Scheme s);
-const char* thermostat_name(Thermostat t);
 const char* reduction_name(Reduction r);
 const char* majorant_name(MajorantKind m);
 const char* geometry_name(Geometry g);

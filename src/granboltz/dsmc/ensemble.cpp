@@ -107,7 +107,7 @@ GRANBOLTZ_HOT void DsmcEnsemble::adapt_majorant(const Particle& a) {
 
 GRANBOLTZ_HOT void DsmcEnsemble::adapt_majorant_scaled(const Particle& a) {
   // Gaussian thermostat: the same rule for the true velocity V + s (w - V).
-  const double r2 = adapt_factor2_ * s2_ * norm2(a.v - v0_);
+  const double r2 = adapt_factor2_ * gauss_.s2 * norm2(a.v - v0_);
   if (r2 > u_max2_) set_majorant(std::sqrt(r2));
 }
 
@@ -120,8 +120,9 @@ void DsmcEnsemble::adapt_majorant_all() {
 // ---- Gaussian thermostat ----
 
 void DsmcEnsemble::set_scale() {
-  s2_ = target_ / energy_;
-  clock_ = pairwise_ ? inverse_power(lambda_case(c_.kernel.lambda), c_.kernel.lambda, s2_) : 1.0;
+  gauss_.s2 = gauss_.target / gauss_.energy;
+  clock_ = pairwise_ ? inverse_power(lambda_case(c_.kernel.lambda), c_.kernel.lambda, gauss_.s2)
+                     : 1.0;
 }
 
 void DsmcEnsemble::fold_scale() {
@@ -136,13 +137,13 @@ void DsmcEnsemble::fold_scale() {
   const Vec3 mean = (1.0 / n) * sum;
   double k = 0.0;
   for (const auto& q : p_) k += norm2(q.v - mean);
-  const double f = std::sqrt(static_cast<double>(c_.dimension) * n * c_.initial_temperature / k);
+  const double f = GaussianThermostat::fold_factor(c_.dimension, n, c_.initial_temperature, k);
   double e = 0.0;
   for (auto& q : p_) {
     q.v = v0_ + f * (q.v - mean);
     e += norm2(q.v - v0_);
   }
-  energy_ = target_ = e;
+  gauss_.energy = gauss_.target = e;
   set_scale();
 }
 
@@ -154,10 +155,9 @@ void DsmcEnsemble::rescale() {
 template <int kLambda, bool kPairwise>
 inline void DsmcEnsemble::after_gaussian_collision(double delta) {
   // The collision removed energy from the stored velocities; the scale grows so that the true
-  // energy s^2 sum |w - V|^2 stays target_ (the Gaussian thermostat, acting at once).
-  energy_ += delta;
-  s2_ = target_ / energy_;
-  if constexpr (kPairwise) clock_ = inverse_power(kLambda, c_.kernel.lambda, s2_);
+  // energy s^2 sum |w - V|^2 stays the target (the Gaussian thermostat, acting at once).
+  gauss_.after_collision(delta);
+  if constexpr (kPairwise) clock_ = inverse_power(kLambda, c_.kernel.lambda, gauss_.s2);
 }
 
 template <int kLambda>
@@ -293,10 +293,11 @@ GRANBOLTZ_HOT DsmcEnsemble::Pair DsmcEnsemble::select_pair(Engine& pairs) {
 
 // ---- Schemes ----
 
-template <int kHeat, int kLambda, bool kPairwise, class G>
+template <class Heat, int kLambda, bool kPairwise, class G>
 bool DsmcEnsemble::run_nosplit(double s, const std::atomic<bool>* pause) {
-  constexpr bool kHeated = kHeat == kNoise, kGaussian = kHeat == kGauss;
-  const double alpha = c_.alpha, beta = c_.beta;
+  constexpr bool kHeated = Heat::kKicks, kGaussian = Heat::kLazyScale;
+  const double alpha = c_.alpha;
+  const WhiteNoiseThermostat noise{c_.beta};
   // Run-constant, so the branch below is always predicted: constant alpha keeps today's map.
   // The law is a local copy: particle stores cannot alias it, so it stays in registers.
   const bool constant_law = is_constant(c_.restitution);
@@ -323,7 +324,7 @@ bool DsmcEnsemble::run_nosplit(double s, const std::atomic<bool>* pause) {
     double bound = 0.0;
     if constexpr (kPairwise) bound = w_[pair.i] + w_[pair.j];
     if constexpr (kHeated) {  // step 2.5: kick both partners up to the event time
-      white_noise_kick2<G::kDim>(a.v, t_ - a.t, b.v, t_ - b.t, beta, ev);
+      noise.template kick_pair<G::kDim>(a.v, t_ - a.t, b.v, t_ - b.t, ev);
       a.t = t_;
       b.t = t_;
       counts.kicks += 2;
@@ -335,7 +336,7 @@ bool DsmcEnsemble::run_nosplit(double s, const std::atomic<bool>* pause) {
     bool real = true;
     if constexpr (kPairwise) real = accept_pairwise<kLambda>(norm2(a.v - b.v), bound, pair.bits);
     else if constexpr (kGaussian && kLambda != kMaxwell)  // the global majorant is in true units
-      real = accept<kLambda>(s2_ * norm2(a.v - b.v), ev);
+      real = accept<kLambda>(gauss_.s2 * norm2(a.v - b.v), ev);
     else if constexpr (kLambda != kMaxwell) real = accept<kLambda>(norm2(a.v - b.v), ev);  // 2.8
     if (real) {
       double before = 0.0;
@@ -343,7 +344,7 @@ bool DsmcEnsemble::run_nosplit(double s, const std::atomic<bool>* pause) {
       if (constant_law) [[likely]]
         collide(a.v, b.v, G::direction(a.v - b.v, ev), alpha);  // step 2.9
       else  // eps(g_n) at the true normal speed: the stored one times s under the Gaussian
-        collide_law(a.v, b.v, G::direction(a.v - b.v, ev), law, kGaussian ? s2_ : 1.0);
+        collide_law(a.v, b.v, G::direction(a.v - b.v, ev), law, kGaussian ? gauss_.s2 : 1.0);
       if constexpr (kGaussian)
         after_gaussian_collision<kLambda, kPairwise>(norm2(a.v - v0_) + norm2(b.v - v0_) - before);
       ++counts.collisions;
@@ -364,7 +365,7 @@ bool DsmcEnsemble::run_nosplit(double s, const std::atomic<bool>* pause) {
       }
     }
     if constexpr (kGaussian)
-      if (s2_ > kRefold) rescale();
+      if (gauss_.s2 > kRefold) rescale();
     if ((++events & kProgressMask) == 0) report(t_);
   }
   events_ = ev;
@@ -418,7 +419,7 @@ void DsmcEnsemble::collide_during(double h) {
     if constexpr (kPairwise)
       real = accept_pairwise<kLambda>(norm2(a.v - b.v), w_[pair.i] + w_[pair.j], pair.bits);
     else if constexpr (kGaussian && kLambda != kMaxwell)
-      real = accept<kLambda>(s2_ * norm2(a.v - b.v), ev);
+      real = accept<kLambda>(gauss_.s2 * norm2(a.v - b.v), ev);
     else if constexpr (kLambda != kMaxwell)
       real = accept<kLambda>(norm2(a.v - b.v), ev);
     if (real) {
@@ -427,7 +428,7 @@ void DsmcEnsemble::collide_during(double h) {
       if (constant_law) [[likely]]
         collide(a.v, b.v, G::direction(a.v - b.v, ev), alpha);
       else
-        collide_law(a.v, b.v, G::direction(a.v - b.v, ev), law, kGaussian ? s2_ : 1.0);
+        collide_law(a.v, b.v, G::direction(a.v - b.v, ev), law, kGaussian ? gauss_.s2 : 1.0);
       if constexpr (kGaussian)
         after_gaussian_collision<kLambda, kPairwise>(norm2(a.v - v0_) + norm2(b.v - v0_) - before);
       ++counts.collisions;
@@ -441,7 +442,7 @@ void DsmcEnsemble::collide_during(double h) {
         adapt_majorant(b);
       }
       if constexpr (kGaussian)
-        if (s2_ > kRefold) rescale();
+        if (gauss_.s2 > kRefold) rescale();
     } else {
       ++counts.fictitious;
     }
@@ -529,10 +530,13 @@ bool DsmcEnsemble::advance_to(double s, const std::atomic<bool>* pause) {
   const int lc = lambda_case(c_.kernel.lambda);
   if (c_.scheme == Scheme::kNoSplit) {
     bool reached = true;
+    // White noise with beta = 0 is free cooling: the loop without kicks.
+    const Thermostat loop = heated_ ? Thermostat::kWhiteNoise : gaussian_ ? Thermostat::kGaussian
+                                                                          : Thermostat::kNone;
     dispatch(c_, lc, pairwise_, [&]<int L, bool P, class G>() {
-      reached = heated_     ? run_nosplit<kNoise, L, P, G>(s, pause)
-                : gaussian_ ? run_nosplit<kGauss, L, P, G>(s, pause)
-                            : run_nosplit<kFree, L, P, G>(s, pause);
+      ThermostatList::with(loop, [&](auto heat) {
+        reached = run_nosplit<decltype(heat), L, P, G>(s, pause);
+      });
     });
     if (!reached) return false;
     kick_all_to(s);  // step 3.1 / Remark 2
@@ -626,7 +630,7 @@ void DsmcEnsemble::save(H5Writer& out, const std::string& g) const {
     write_index_stream(out, g + "/candidates", candidates_);
     write_index_stream(out, g + "/partners", partners_);
   }
-  if (gaussian_) out.write(g + "/thermostat", std::vector<double>{energy_, target_}, {2});
+  if (gaussian_) out.write(g + "/thermostat", std::vector<double>{gauss_.energy, gauss_.target}, {2});
 }
 
 DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, const H5Reader& in, const std::string& g,
@@ -693,8 +697,8 @@ DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, const H5Reader& in, const s
     const auto th = in.read_double(g + "/thermostat");
     if (th.size() != 2 || !(th[0] > 0) || !(th[1] > 0))
       throw std::runtime_error(in.path() + ": malformed thermostat state in " + g);
-    energy_ = th[0];
-    target_ = th[1];
+    gauss_.energy = th[0];
+    gauss_.target = th[1];
     set_scale();
   }
 }

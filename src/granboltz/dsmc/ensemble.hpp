@@ -12,6 +12,7 @@
 #include "granboltz/exec/ensemble_pool.hpp"
 #include "granboltz/h5/hdf5_io.hpp"
 #include "granboltz/dsmc/particles.hpp"
+#include "granboltz/physics/thermostat/list.hpp"
 #include "granboltz/random/rng.hpp"
 
 namespace granboltz {
@@ -62,18 +63,18 @@ class DsmcEnsemble {
     std::uint32_t bits;  // pairwise majorant: the event's 32 acceptance bits
   };
 
-  // The event loops, specialised by what happens between and after collisions.
-  static constexpr int kFree = 0, kNoise = 1, kGauss = 2;
-  // G: the collision geometry (physics/geometry.hpp), which also fixes the dimension.
-  template <int kHeat, int kLambda, bool kPairwise, class G>
+  // The event loops, specialised by what happens between and after collisions: Heat is the
+  // thermostat (physics/thermostat/), G the collision geometry (physics/geometry.hpp), which
+  // also fixes the dimension.
+  template <class Heat, int kLambda, bool kPairwise, class G>
   bool run_nosplit(double s, const std::atomic<bool>* pause);
-  template <bool kGaussian, int kLambda, bool kPairwise, class G>
+  template <bool kLazyScale, int kLambda, bool kPairwise, class G>
   void collide_during(double h);  // collision step of length h (splitting schemes)
   // Gaussian thermostat: the stored velocities w relate to the true ones by v = V + s (w - V),
-  // V = v0_, s^2 = target_ / energy_ (collisions commute with this map).
+  // V = v0_, s^2 = gauss_.s2 (collisions commute with this map).
   template <int kLambda, bool kPairwise>
   void after_gaussian_collision(double delta);  // delta: the change of sum |w - V|^2
-  void set_scale();               // s2_ and clock_ from energy_ and target_
+  void set_scale();               // gauss_.s2 and clock_ from its energy and target
   void fold_scale();              // v := V + s (w - V), then exactly T = T0 about the mean
   void rescale();                 // fold_scale() and the majorant in the new units
   template <int kLambda, bool kPairwise>
@@ -115,9 +116,7 @@ class DsmcEnsemble {
   double adapt_factor2_;  // (1 or 2)^2: paper or strict majorant update
   bool heated_;           // white noise with beta > 0
   bool gaussian_;         // dsmc.thermostat: gaussian
-  double energy_ = 0.0;   // gaussian: sum |w_i - V|^2, updated by every collision
-  double target_ = 0.0;   // gaussian: sum |v_i - V|^2 at the last fold (3 n T0 to round-off)
-  double s2_ = 1.0;       // gaussian: s^2 = target_ / energy_
+  GaussianThermostat gauss_;  // gaussian: the lazy scale's sums and s^2
   double clock_ = 1.0;    // gaussian, pairwise majorant: s^-lambda (the rate is in w units)
   Engine events_, pairs_, sweep_;
   std::array<Pair, kLookahead> ring_{};  // global majorant: the pairs ahead
