@@ -30,7 +30,7 @@ ITEM_RULES = [
     *[f"tv06_{x}" for x in ("fig1", "fig2", "fig3", "fig4", "fig5", "fig7", "fig8", "dsmc")],
     # issue 10: exact moments and local tail exponents
     "grw05_ex7_moments", "grw05_tail_local_ex7", "grw05_tail_local_ex8", "grw05_tail_local_ex9", "rw05_moments",
-    "beyond_haff", "beyond_a2", "beyond_tail",
+    "beyond_haff", "beyond_a2", "beyond_tail", "beyond_viscoelastic",
     # issue 11: weighted particles
     "grw05_tail_swpm_ex7", "grw05_tail_swpm_ex8", "grw05_tail_swpm_ex9", "grw05_tail_swpm_check",
 ]
@@ -72,12 +72,14 @@ def test_dry_run_plans_every_job(profile):
     # issue 11: Examples 7-9 and the importance check
     assert counts.pop("grw05_swpm_run") == counts.pop("grw05_swpm_run_config") == 4
     assert counts.pop("tv06_run") == counts.pop("tv06_run_config") == expected_tv06_runs(config)
-    b = config["beyond"]  # issue 14: 2 Haff runs, 2 thermostats x 2 kernels x alphas, the tail run if its own
+    b = config["beyond"]  # issue 14: 2 Haff runs, 2 thermostats x 2 kernels x alphas, the tail run if its own;
+    # one viscoelastic run per delta and the elastic one
     beyond = 2 + 4 * len(b["a2"]["alphas"]) + (b["tail"]["ensembles"] != b["a2"]["ensembles"])
+    beyond += len(b["viscoelastic"]["deltas"]) + 1
     assert counts.pop("beyond_run") == counts.pop("beyond_run_config") == beyond
     # 11 tables and the window table; TV06 Figs. 3, 4, 7 and §4; Ex. 7 moments, amplitude, RW05
-    # moments; 3 beyond
-    assert counts.pop("table_tex") == 22
+    # moments; 4 beyond
+    assert counts.pop("table_tex") == 23
     assert counts == {"all": 1, "report": 1, **{rule: 1 for rule in ITEM_RULES}}
 
 

@@ -1,12 +1,14 @@
 """Beyond the papers (issue 14): free cooling (Haff's law), the homogeneous cooling state under
 the Gaussian thermostat and the white-noise steady state, against theory (docs/config.md,
-Thermostats).
+Thermostats); free cooling of viscoelastic spheres (docs/config.md, Restitution laws).
 
-Raw runs:  results/beyond/<thermostat>/<kernel>/alpha=<alpha>/N=<ensembles>/n=<particles>/run.h5
+Raw runs:  results/beyond/<thermostat>/<kernel>/<restitution>/N=<ensembles>/n=<particles>/run.h5
            with <thermostat> = none (Haff), gaussian or white_noise, <kernel> = maxwell (lambda = 0)
-           or hard_spheres (lambda = 1)
+           or hard_spheres (lambda = 1), <restitution> = alpha=<alpha> (constant) or
+           delta=<delta> (viscoelastic: free-cooling hard spheres only)
 Items:     Haff's law (table + figure), a2(alpha) of both thermostats (table + figure), the HCS tail
-           (local exponent; table + figure), in the report section "Beyond the papers".
+           (local exponent; table + figure), viscoelastic free cooling (T ~ t^(-5/3); table +
+           figure), in the report section "Beyond the papers".
 """
 
 BEYOND = config["beyond"]
@@ -16,8 +18,9 @@ BEYOND_LAMBDA = {"maxwell": 0, "hard_spheres": 1}
 
 def check_beyond(b):
     """Cross-key checks of config beyond that the schema cannot express; ValueError naming the key."""
+    visco = b["viscoelastic"]
     for name, timing in [("haff.maxwell", b["haff"]["maxwell"]), ("haff.hard_spheres", b["haff"]["hard_spheres"]),
-                         ("a2", b["a2"])]:
+                         ("a2", b["a2"]), ("viscoelastic", visco), ("viscoelastic.elastic", visco["elastic"])]:
         if not _whole(timing["t_end"], timing["observe_every"]):
             raise ValueError(f"beyond.{name}: t_end must be a whole multiple of observe_every")
     if not b["a2"]["steady_from"] < b["a2"]["t_end"]:
@@ -26,27 +29,43 @@ def check_beyond(b):
         raise ValueError("beyond.a2.key_alphas: must be among beyond.a2.alphas")
     if b["tail"]["alpha"] not in b["a2"]["alphas"]:
         raise ValueError(f"beyond.tail.alpha = {b['tail']['alpha']}: must be one of beyond.a2.alphas")
+    if not visco["late_from"] < visco["t_end"]:
+        raise ValueError("beyond.viscoelastic: need late_from < t_end")
 
 
 check_beyond(BEYOND)
 
 
-def beyond_runs(thermostat, kernels, alphas, N, n):
-    """The HDF5 outputs of one thermostat for every kernel and alpha."""
-    return expand(rules.beyond_run.output.h5, thermostat=thermostat, kernel=kernels, alpha=alphas, N=N, n=n)
+def beyond_runs(thermostat, kernels, values, N, n, law="alpha"):
+    """The HDF5 outputs of one thermostat for every kernel and value of alpha (law "delta": of the
+    viscoelastic delta); values a list or one number."""
+    values = values if isinstance(values, (list, tuple)) else [values]
+    return expand(rules.beyond_run.output.h5, thermostat=thermostat, kernel=kernels,
+                  restitution=[f"{law}={v}" for v in values], N=N, n=n)
 
 
 def beyond_run_config(wildcards):
-    """Run config of results/beyond/{thermostat}/{kernel}/alpha={alpha}/N={N}/n={n}: free cooling
-    with the haff timing of the kernel; gaussian and white_noise steady runs with the a2 timing
-    (the hard-sphere Gaussian runs also keep the histogram of the tail)."""
-    physics = {"alpha": float(wildcards.alpha), "beta": 0.0, "gamma": BEYOND["gamma"],
+    """Run config of results/beyond/{thermostat}/{kernel}/{restitution}/N={N}/n={n}: free cooling
+    with the haff timing of the kernel (delta=: the viscoelastic timing, or its elastic one for
+    delta 0); gaussian and white_noise steady runs with the a2 timing (the hard-sphere Gaussian
+    runs also keep the histogram of the tail)."""
+    law, value = wildcards.restitution.split("=")
+    physics = {"beta": 0.0, "gamma": BEYOND["gamma"],
                "kernel": {"lambda": BEYOND_LAMBDA[wildcards.kernel], "C": BEYOND["C"]},
                "temperature0": BEYOND["temperature0"]}
+    if law == "alpha":
+        physics["alpha"] = float(value)
+    elif wildcards.thermostat == "none" and wildcards.kernel == "hard_spheres":
+        physics["restitution"] = {"law": "viscoelastic", "delta": float(value)}
+    else:
+        raise ValueError(f"{wildcards.restitution}: the viscoelastic runs are free-cooling hard spheres")
     extra = {"thermostat": wildcards.thermostat}
     if wildcards.thermostat != "white_noise" and wildcards.kernel == "hard_spheres":
         extra["majorant"] = "pairwise"  # exact without kicks; the global bound would reject most pairs as T falls
-    if wildcards.thermostat == "none":
+    if law == "delta":
+        visco = BEYOND["viscoelastic"]
+        timing = visco if float(value) > 0 else visco["elastic"]
+    elif wildcards.thermostat == "none":
         timing = BEYOND["haff"][wildcards.kernel]
     else:
         timing = BEYOND["a2"]
@@ -55,7 +74,7 @@ def beyond_run_config(wildcards):
             physics["beta"] = timing["beta"]
         if wildcards.thermostat == "gaussian" and wildcards.kernel == "hard_spheres":
             extra["histogram"] = {"shells": BEYOND["tail"]["shells"], "radius": BEYOND["tail"]["radius"]}
-    label = f"beyond/{wildcards.thermostat}/{wildcards.kernel}/alpha={wildcards.alpha}/n={wildcards.n}"
+    label = f"beyond/{wildcards.thermostat}/{wildcards.kernel}/{wildcards.restitution}/n={wildcards.n}"
     return dsmc_run_config(label, physics, wildcards.N, wildcards.n, timing["t_end"], timing["observe_every"], **extra)
 
 
@@ -65,13 +84,13 @@ localrules:
 
 rule beyond_run_config:
     output:
-        yaml="results/beyond/{thermostat}/{kernel}/alpha={alpha}/N={N}/n={n}/run.yaml",
+        yaml="results/beyond/{thermostat}/{kernel}/{restitution}/N={N}/n={n}/run.yaml",
     log:
-        "logs/beyond/{thermostat}/{kernel}/alpha={alpha}/N={N}/n={n}/run_config.log",
+        "logs/beyond/{thermostat}/{kernel}/{restitution}/N={N}/n={n}/run_config.log",
     wildcard_constraints:
         thermostat="none|gaussian|white_noise",
         kernel="maxwell|hard_spheres",
-        alpha="[0-9.]+",
+        restitution="(alpha|delta)=[0-9.]+",
     params:
         run=beyond_run_config,
     script:
@@ -83,15 +102,15 @@ rule beyond_run:
         config=rules.beyond_run_config.output.yaml,
         granboltz=config["granboltz"],
     output:
-        h5="results/beyond/{thermostat}/{kernel}/alpha={alpha}/N={N}/n={n}/run.h5",
+        h5="results/beyond/{thermostat}/{kernel}/{restitution}/N={N}/n={n}/run.h5",
     log:
-        "logs/beyond/{thermostat}/{kernel}/alpha={alpha}/N={N}/n={n}/run.log",
+        "logs/beyond/{thermostat}/{kernel}/{restitution}/N={N}/n={n}/run.log",
     benchmark:
-        "benchmarks/beyond/{thermostat}/{kernel}/alpha={alpha}/N={N}/n={n}/run.tsv"
+        "benchmarks/beyond/{thermostat}/{kernel}/{restitution}/N={N}/n={n}/run.tsv"
     wildcard_constraints:
         thermostat="none|gaussian|white_noise",
         kernel="maxwell|hard_spheres",
-        alpha="[0-9.]+",
+        restitution="(alpha|delta)=[0-9.]+",
     threads: run_threads
     resources:
         mem_mb=run_mem_mb,
@@ -99,7 +118,7 @@ rule beyond_run:
         "{input.granboltz} run {input.config} -o {output.h5} --threads {threads} > {log} 2>&1"
 
 
-HAFF, A2, TAIL = BEYOND["haff"], BEYOND["a2"], BEYOND["tail"]
+HAFF, A2, TAIL, VISCO = BEYOND["haff"], BEYOND["a2"], BEYOND["tail"], BEYOND["viscoelastic"]
 
 
 rule beyond_haff:
@@ -159,6 +178,26 @@ rule beyond_tail:
         "../scripts/beyond_tail.py"
 
 
+rule beyond_viscoelastic:
+    input:
+        runs=beyond_runs("none", "hard_spheres", VISCO["deltas"], VISCO["ensembles"], VISCO["particles"], "delta")
+        + beyond_runs("none", "hard_spheres", [0.0], VISCO["elastic"]["ensembles"], VISCO["particles"], "delta"),
+    output:
+        csv=report("results/tables/beyond_viscoelastic.csv", caption="../report/beyond.rst", category="Beyond the papers"),
+        png=report("figures/beyond_viscoelastic.png", caption="../report/beyond.rst", category="Beyond the papers"),
+        pdf="figures/beyond_viscoelastic.pdf",
+        summary="results/figures/beyond_viscoelastic.json",
+    log:
+        "logs/figures/beyond_viscoelastic.log",
+    benchmark:
+        "benchmarks/figures/beyond_viscoelastic.tsv"
+    params:
+        rows=VISCO["rows"],
+        late_from=VISCO["late_from"],
+    script:
+        "../scripts/beyond_viscoelastic.py"
+
+
 for _rule, _name, _what in (
     (rules.beyond_haff, "Haff's law", "free cooling: Maxwell molecules T0 e^{−γπC(1−α²)t} exactly; hard spheres "
                                       "T0/(1 + t/t0)² with t0 from the cooling rate with the first-Sonine a2"),
@@ -166,7 +205,10 @@ for _rule, _name, _what in (
                                                  "white-noise steady state: hard spheres against van Noije–Ernst, "
                                                  "Maxwell molecules against the exact moment hierarchy"),
     (rules.beyond_tail, "HCS tail", "local exponent b(r) of the hard-sphere HCS distribution against the "
-                                    "exponential tail b = 1")):
+                                    "exponential tail b = 1"),
+    (rules.beyond_viscoelastic, "Viscoelastic free cooling", "free cooling of viscoelastic hard spheres, "
+                                "ε(g_n) = 1 − C1 δ g_n^{1/5} + C2 δ² g_n^{2/5}: T ∝ t^{−5/3} at late times "
+                                "(Brilliantov–Pöschel), not Haff's t^{−2}; δ = 0 elastic, T constant")):
     _runs = _rule.input.runs if hasattr(_rule.input, "runs") else [_rule.input.run]
     report_item(BEYOND_PAPER, _name, _rule, "figure", _rule.output.png, _what, runs=_runs,
                 run_rule=rules.beyond_run, summary=_rule.output.summary)

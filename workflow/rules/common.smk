@@ -97,9 +97,9 @@ def run_mem_mb(wildcards, threads):
 
 
 def dsmc_run_config(label, physics, N, n, t_end, observe_every, **dsmc):
-    """The simulator's run config (a dict, written as YAML): physics (alpha, beta, gamma,
-    kernel, temperature0, majorant_update) and timing, plus any further dsmc keys (scheme,
-    steps, histogram, steady_from)."""
+    """The simulator's run config (a dict, written as YAML): physics (alpha, or restitution for
+    another law; beta, gamma, kernel, temperature0, majorant_update) and timing, plus any further
+    dsmc keys (scheme, steps, histogram, steady_from)."""
     if "histogram" in dsmc:
         # The papers' histograms are of |v| (GRW05 eq. 37), not of |v - V(t)|.
         dsmc["histogram"] = {"center": "origin", **dsmc["histogram"]}
@@ -110,7 +110,8 @@ def dsmc_run_config(label, physics, N, n, t_end, observe_every, **dsmc):
         "dsmc": {
             "particles": int(n),
             "scheme": dsmc.pop("scheme", "nosplit"),
-            "alpha": physics["alpha"],
+            # the simulator takes one of the two (restitution in alpha's place keeps the key order)
+            **({"restitution": physics["restitution"]} if "restitution" in physics else {"alpha": physics["alpha"]}),
             "beta": physics["beta"],
             "gamma": physics["gamma"],
             "kernel": {"lambda": physics["kernel"]["lambda"], "C": physics["kernel"]["C"]},

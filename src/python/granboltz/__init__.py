@@ -17,6 +17,7 @@ Modules, one concern each (import the one you need; nothing heavy is imported he
     steady       RW05 Tables 3-6, repeated runs, the effort model
     tails        GRW05 §5.3 tail exponents
     tv06_tables, tv06_histograms   TV06 runs, tables and histograms
+    beyond, viscoelastic   the report section "Beyond the papers" (viscoelastic: free cooling, T ~ t^(-5/3))
     plotting     matplotlib with the house style, reproducible figure files
     files        atomic CSV/text/JSON writing
     report       the reproduction report (subpackage)

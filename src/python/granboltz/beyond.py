@@ -1,6 +1,7 @@
 """Beyond the papers (issue 14): free cooling (Haff's law) and the homogeneous cooling state (HCS)
 with the Gaussian thermostat, beside the white-noise steady state.  Theory, table rows and the
-computed verdicts of the report section "Beyond the papers".
+computed verdicts of the report section "Beyond the papers" (viscoelastic free cooling:
+granboltz.viscoelastic).
 
 Units: density 1, kernel B = C |u|^lambda, collision term gamma Q (docs/config.md, Thermostats).
 Sonine coefficient a2 = <c^4>/15 - 1 of the velocities scaled to T = 1, read from a run as the
@@ -60,6 +61,16 @@ def haff_temperature(t, T0, alpha, gamma, C, kernel_lambda, n=None):
 
 
 # ----------------------------------------------------------------------------- rows
+def run_alpha(run):
+    """alpha of a run with constant restitution (dsmc.alpha; the stored config has `restitution` in its
+    place for another law, e.g. viscoelastic: granboltz.viscoelastic); ValueError naming the file otherwise."""
+    d = run.config["dsmc"]
+    if "alpha" not in d:
+        raise ValueError(f"{run.path}: no constant alpha (dsmc.restitution = {d.get('restitution')}); "
+                         "viscoelastic runs: granboltz.viscoelastic")
+    return float(d["alpha"])
+
+
 def haff_rows(runs):
     """One row per (kernel, observation time) of free-cooling runs (read_run objects): T with its
     half-width, the theory, ratio and sigma-distance z = |T - theory|/(ci/Z)."""
@@ -68,9 +79,10 @@ def haff_rows(runs):
         d = run.config["dsmc"]
         n, lam = int(d["particles"]), float(d["kernel"]["lambda"])
         T, ci = run.temperature.mean, run.temperature.ci
-        th = haff_temperature(run.time, d["initial"]["temperature"], d["alpha"], d["gamma"], d["kernel"]["C"], lam, n)
+        alpha = run_alpha(run)
+        th = haff_temperature(run.time, d["initial"]["temperature"], alpha, d["gamma"], d["kernel"]["C"], lam, n)
         for t, x, c, e in zip(run.time, T, ci, th):
-            rows.append({"kernel": "maxwell" if lam == 0 else "hard_spheres", "alpha": d["alpha"], "n": n,
+            rows.append({"kernel": "maxwell" if lam == 0 else "hard_spheres", "alpha": alpha, "n": n,
                          "N": int(run.config["ensembles"]), "t": float(t), "T": float(x), "ci": float(c),
                          "T_theory": float(e), "ratio": float(x / e), "z": float(abs(x - e) / (c / Z)) if c > 0 else 0.0})
     return rows
@@ -89,10 +101,11 @@ def a2_rows(runs, rel_tol, abs_floor, published=()):
         T, fm = run.steady["temperature"], run.steady["fourth_moment"]
         a2 = float(fm.mean / (15 * T.mean**2))
         ci = float(math.hypot(fm.ci / (15 * T.mean**2), 2 * abs(a2) * T.ci / T.mean))
-        ref, kind = theory_a2(th_name, lam, float(d["alpha"]))
-        p = pub.get(round(float(d["alpha"]), 6)) if (th_name == "gaussian" and lam == 1) else None
+        alpha = run_alpha(run)
+        ref, kind = theory_a2(th_name, lam, alpha)
+        p = pub.get(round(alpha, 6)) if (th_name == "gaussian" and lam == 1) else None
         rows.append({"thermostat": th_name, "kernel": "maxwell" if lam == 0 else "hard_spheres",
-                     "alpha": float(d["alpha"]), "n": int(d["particles"]), "N": int(run.config["ensembles"]),
+                     "alpha": alpha, "n": int(d["particles"]), "N": int(run.config["ensembles"]),
                      "a2": a2, "ci": ci, "theory": ref, "theory_kind": kind, "diff": a2 - ref,
                      "z": abs(a2 - ref) / (ci / Z) if ci > 0 else math.inf,
                      "rel_diff": (a2 - ref) / ref if ref else math.nan,
