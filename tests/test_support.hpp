@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "granboltz/app/config.hpp"
+#include "granboltz/dsmc/ensemble.hpp"
 #include "granboltz/dsmc/run.hpp"
 #include "granboltz/h5/hdf5_io.hpp"
 #include "granboltz/dsmc/observables.hpp"
@@ -199,6 +200,33 @@ inline void expect_sigterm_resumes_identically(const TempDir& dir, const std::st
 }
 
 /// The tiny valid config of a model that the command-line cases break (tests/bad_inputs/base).
+/// An ensemble of `config` advanced to t_save, saved and restored, continues to t_end exactly as
+/// the one that was never saved: particles, times, collisions and random draws.
+inline void expect_restored_ensemble_continues_identically(const DsmcConfig& config,
+                                                           std::uint64_t seed,
+                                                           std::uint64_t ensemble, double t_save,
+                                                           double t_end) {
+  TempDir dir;
+  DsmcEnsemble a(config, seed, ensemble);
+  a.advance_to(t_save);
+  {
+    H5Writer w(dir.file("state.h5"));
+    a.save(w, "/e");
+    w.commit();
+  }
+  H5Reader r(dir.file("state.h5"));
+  DsmcEnsemble b(config, r, "/e");
+  a.advance_to(t_end);
+  b.advance_to(t_end);
+  ASSERT_EQ(a.particles().size(), b.particles().size());
+  for (std::size_t i = 0; i < a.particles().size(); ++i) {
+    const Particle &p = a.particles()[i], &q = b.particles()[i];
+    ASSERT_TRUE(p.v.x == q.v.x && p.v.y == q.v.y && p.v.z == q.v.z && p.t == q.t) << i;
+  }
+  EXPECT_EQ(a.counts().collisions, b.counts().collisions);
+  EXPECT_EQ(a.random_draws(), b.random_draws());
+}
+
 inline std::string base_config(const std::string& model) {
   std::ifstream in(std::string(GRANBOLTZ_SOURCE_DIR) + "/tests/bad_inputs/base/" + model + ".yaml");
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};

@@ -32,10 +32,8 @@ struct Sphere3 {
 template <class E>
 GRANBOLTZ_HOT Vec3 unit_circle(E& eng) {
   for (;;) {
-    const std::uint64_t bits = eng();
-    const double a = static_cast<double>(static_cast<std::int32_t>(bits >> 32)) * 0x1.0p-31 +
-                     0x1.0p-32;
-    const double b = static_cast<double>(static_cast<std::int32_t>(bits)) * 0x1.0p-31 + 0x1.0p-32;
+    double a, b;
+    square_point(eng(), a, b);
     const double s = a * a + b * b;
     if (s < 1.0) {
       const double inv = 1.0 / s;

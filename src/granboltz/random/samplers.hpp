@@ -194,15 +194,20 @@ inline Vec3 normal3(E& eng) {
   return {a, b, c};
 }
 
+/// A point (a, b) of the square (-1, 1)^2 from one 64-bit draw, 32 random bits a coordinate
+/// (centred in their cells: never 0 or +-1); the trial of the rejection samplers below.
+GRANBOLTZ_HOT void square_point(std::uint64_t bits, double& a, double& b) {
+  a = static_cast<double>(static_cast<std::int32_t>(bits >> 32)) * 0x1.0p-31 + 0x1.0p-32;
+  b = static_cast<double>(static_cast<std::int32_t>(bits)) * 0x1.0p-31 + 0x1.0p-32;
+}
+
 /// Uniform direction on S^2 without trigonometry (Marsaglia, Ann. Math. Stat. 43, 1972). Each
 /// trial takes both coordinates, with 32 random bits each, from one 64-bit draw.
 template <class E>
 GRANBOLTZ_HOT Vec3 unit_vector(E& eng) {
   for (;;) {
-    const std::uint64_t bits = eng();
-    const double a = static_cast<double>(static_cast<std::int32_t>(bits >> 32)) * 0x1.0p-31 +
-                     0x1.0p-32;
-    const double b = static_cast<double>(static_cast<std::int32_t>(bits)) * 0x1.0p-31 + 0x1.0p-32;
+    double a, b;
+    square_point(eng(), a, b);
     const double s = a * a + b * b;
     if (s < 1.0) {
       const double w = 2.0 * std::sqrt(1.0 - s);
