@@ -452,20 +452,7 @@ TEST(Restitution, ThreadsShardsAndCheckpointsGiveTheSameBits) {
     std::string args;
     for (const auto& s : sets) args += " --set " + s;
     const std::string cfg = dir.write("c.yaml", kHeated) + args;
-    const std::string one = dir.file("one.h5"), two = dir.file("two.h5");
-    expect_ok(run_granboltz("run " + cfg + " -q --threads 1 -o " + one));
-    expect_ok(run_granboltz("run " + cfg + " -q --threads 2 -o " + two));
-    test::expect_identical_outputs(one, two);
-    std::string shards;
-    for (int s = 0; s < 3; ++s) {
-      const std::string f = dir.file("s" + std::to_string(s) + ".h5");
-      expect_ok(run_granboltz("run " + cfg + " -q --set shard.count=3 --set shard.index=" +
-                              std::to_string(s) + " -o " + f));
-      shards += f + " ";
-    }
-    const std::string merged = dir.file("merged.h5");
-    expect_ok(run_granboltz("merge " + shards + "-o " + merged));
-    test::expect_identical_outputs(one, merged);
+    test::expect_threads_and_shards_identical(dir, cfg);
   }
   // An ensemble saved at an observation and restored continues bit for bit (Gaussian: the lazy
   // scale's state; eps is taken at the true speeds on both sides).

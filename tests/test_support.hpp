@@ -200,6 +200,27 @@ inline void expect_sigterm_resumes_identically(const TempDir& dir, const std::st
 }
 
 /// The tiny valid config of a model that the command-line cases break (tests/bad_inputs/base).
+/// The run of `cfg` (a config path with any --set arguments) on 1 and 2 threads and as 3 merged
+/// shards: three outputs equal dataset for dataset. Returns the first output's path.
+inline std::string expect_threads_and_shards_identical(const TempDir& dir, const std::string& cfg) {
+  const auto ok = [](const CommandResult& r) { EXPECT_EQ(r.exit_code, 0) << r.output; };
+  const std::string one = dir.file("one.h5"), two = dir.file("two.h5");
+  ok(run_granboltz("run " + cfg + " -q --threads 1 -o " + one));
+  ok(run_granboltz("run " + cfg + " -q --threads 2 -o " + two));
+  expect_identical_outputs(one, two);
+  std::string shards;
+  for (int s = 0; s < 3; ++s) {
+    const std::string f = dir.file("s" + std::to_string(s) + ".h5");
+    ok(run_granboltz("run " + cfg + " -q --set shard.count=3 --set shard.index=" +
+                     std::to_string(s) + " -o " + f));
+    shards += f + " ";
+  }
+  const std::string merged = dir.file("merged.h5");
+  ok(run_granboltz("merge " + shards + "-o " + merged));
+  expect_identical_outputs(one, merged);
+  return one;
+}
+
 /// An ensemble of `config` advanced to t_save, saved and restored, continues to t_end exactly as
 /// the one that was never saved: particles, times, collisions and random draws.
 inline void expect_restored_ensemble_continues_identically(const DsmcConfig& config,
