@@ -39,7 +39,8 @@ void SumTree::resize(std::size_t capacity) {
   node_.assign(2 * leaves_, 0.0);
 }
 
-void SumTree::set(std::size_t i, double g) {
+// Inlined into the event loop (GCC stopped doing it by itself once the loop became a template).
+GRANBOLTZ_HOT void SumTree::set(std::size_t i, double g) {
   std::size_t k = leaves_ + i;
   node_[k] = g;
   for (k /= 2; k >= 1; k /= 2) node_[k] = node_[2 * k] + node_[2 * k + 1];
@@ -366,7 +367,8 @@ void WeightedEnsemble::rebuild_tree() {
   for (std::size_t i = 0; i < g_.size(); ++i) tree_.set(i, g_[i]);
 }
 
-void WeightedEnsemble::adapt_majorant(const Vec3& v) {
+// Inlined into the event loop, as SumTree::set.
+GRANBOLTZ_HOT void WeightedEnsemble::adapt_majorant(const Vec3& v) {
   const double r2 = adapt_factor2_ * norm2(v - v0_);
   if (r2 > u_max_ * u_max_) u_max_ = std::sqrt(r2);
 }
@@ -437,17 +439,18 @@ void WeightedEnsemble::split_sweep() {
 }
 
 bool WeightedEnsemble::advance_to(double s, const std::atomic<bool>* pause) {
+  // The geometry (physics/geometry.hpp) at compile time, as in the constant-weight loops.
+  if (c_.dimension == 3) return advance_with<Sphere3>(s, pause);
+  if (c_.geometry == Geometry::kImpact) return advance_with<CircleImpact>(s, pause);
+  return advance_with<CircleUniform>(s, pause);
+}
+
+template <class Geo>
+bool WeightedEnsemble::advance_with(double s, const std::atomic<bool>* pause) {
   const double alpha = c_.alpha, beta = c_.beta, kappa = c_.weights.kappa;
   const bool constant_law = is_constant(c_.restitution);
   const bool maxwell = c_.kernel.lambda == 0.0;
   const double K = c_.kernel.area * c_.kernel.gamma * c_.kernel.C * (1.0 + kappa);  // 4 pi in d = 3
-  const int dim = c_.dimension;
-  const bool disks = dim == 2 && c_.geometry == Geometry::kImpact;
-  // The direction of GRW05's map for the pair's relative velocity (physics/geometry.hpp).
-  const auto direction = [&](Vec3 u) {
-    return dim == 3 ? unit_vector(events_) : disks ? disk_impact_direction(u, events_)
-                                                   : unit_circle(events_);
-  };
   std::uint64_t events = 0;
   for (;;) {
     if (pause && (events & kPauseMask) == 0 && pause->load(std::memory_order_relaxed))
@@ -479,8 +482,7 @@ bool WeightedEnsemble::advance_to(double s, const std::atomic<bool>* pause) {
     Particle& a = p_[i];
     Particle& b = p_[j];
     if (heated_) {
-      if (dim == 2) white_noise_kick2<2>(a.v, t_ - a.t, b.v, t_ - b.t, beta, events_);
-      else white_noise_kick2(a.v, t_ - a.t, b.v, t_ - b.t, beta, events_);
+      white_noise_kick2<Geo::kDim>(a.v, t_ - a.t, b.v, t_ - b.t, beta, events_);
       a.t = b.t = t_;
       counts_.kicks += 2;
       if (!maxwell) adapt_majorant(a.v), adapt_majorant(b.v);
@@ -491,9 +493,9 @@ bool WeightedEnsemble::advance_to(double s, const std::atomic<bool>* pause) {
     if (uniform01(events_) < accept) {
       const std::size_t before = p_.size();
       if (constant_law) [[likely]]
-        weighted_collide(p_, g_, i, j, direction(a.v - b.v), alpha, kappa, t_);
+        weighted_collide(p_, g_, i, j, Geo::direction(a.v - b.v, events_), alpha, kappa, t_);
       else
-        weighted_collide(p_, g_, i, j, direction(a.v - b.v), c_.restitution, kappa, t_);
+        weighted_collide(p_, g_, i, j, Geo::direction(a.v - b.v, events_), c_.restitution, kappa, t_);
       tree_.set(i, g_[i]);
       tree_.set(j, g_[j]);
       for (std::size_t k = before; k < p_.size(); ++k) tree_.set(k, g_[k]);

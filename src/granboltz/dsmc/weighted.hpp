@@ -117,6 +117,8 @@ class WeightedEnsemble {
   std::uint64_t split_sweeps() const { return splits_; }
 
  private:
+  template <class G>  // the collision geometry (physics/geometry.hpp), which fixes d
+  bool advance_with(double s, const std::atomic<bool>* pause);
   void rebuild_tree();
   void adapt_majorant(const Vec3& v);
   void kick_all_to(double s);
