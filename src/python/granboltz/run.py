@@ -23,7 +23,6 @@ the wrong shape, dtype or non-finite values. The layout checked is what the simu
 shard must have all of it too, for its own ensembles.
 """
 
-from collections.abc import Mapping
 from dataclasses import dataclass, replace
 
 import h5py
@@ -32,7 +31,7 @@ import numpy as np
 from .io import RunReadError, open_run, provenance, read_config, read_dataset, reading
 from .intervals import Interval, read_fields, read_steady
 from .layout import F8, U8, Spec, check_provenance, config_section, dsmc_layout, shard_range, tv06_layout
-from .reader import Reader
+from .reader import LazyHistograms, Reader  # LazyHistograms: also granboltz.run's, as before
 
 _HISTOGRAM_GROUPS = ("histogram", "histogram_component", "velocity_histogram", "omega_histogram")
 _NOT_OBSERVABLES = {"events", "steady", "accumulators", "provenance", "exact"} | set(_HISTOGRAM_GROUPS)
@@ -75,42 +74,6 @@ class Observable:
     def upper(self):
         """mean + ci: the upper end of the confidence band."""
         return self.mean + self.ci
-
-
-class LazyHistograms(Mapping):
-    """The histograms of a run file by group name ({dataset name: array} each), read from the
-    file on first access and then kept: large histograms cost nothing until they are used."""
-
-    def __init__(self, path, names, layouts=None):
-        self._path, self._names, self._cache = str(path), tuple(names), {}
-        # {group: [Spec]}: the datasets read_run found in each group, checked again when read
-        self._layouts = dict(layouts or {})
-
-    def __getitem__(self, name):
-        if name not in self._names:
-            raise KeyError(f"{self._path} has no histogram {name!r} (it has: {', '.join(self._names) or 'none'})")
-        if name not in self._cache:
-            with open_run(self._path) as f:
-                reader = Reader(f, self._path, None)
-                with reading(self._path, f"group /{name}"):
-                    group = f.get(name)
-                    if not isinstance(group, h5py.Group):
-                        raise RunReadError(self._path, f"group /{name}", "missing (read_run found it)")
-                    keys = [key for key in group if isinstance(group.get(key), h5py.Dataset)]
-                out = {}
-                for spec in self._layouts.get(name, ()):
-                    out[spec.name.rpartition("/")[2]] = reader.dataset(spec)
-                for key in keys:
-                    if key not in out:
-                        out[key] = read_dataset(f, f"{name}/{key}", self._path)
-                self._cache[name] = out
-        return self._cache[name]
-
-    def __iter__(self):
-        return iter(self._names)
-
-    def __len__(self):
-        return len(self._names)
 
 
 @dataclass
