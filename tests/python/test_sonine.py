@@ -117,3 +117,71 @@ def test_cooling_rates_and_steady_temperatures_in_the_codes_conventions():
         assert 2.0 == pytest.approx(K / (2.0 * (1 - 0.8**2)) * 4.0 * (1 - a * a) * (1 + 3 * a2 / 16) * T**1.5, rel=1e-13)
         T0 = sonine.hard_sphere_steady_temperature(a, 1.0, 4.0, C, sonine=False)
         assert T / T0 == pytest.approx((1 + 3 * a2 / 16) ** (-2 / 3), rel=1e-14)
+
+
+# d = 2 second Sonine (hard disks): derived with tests/sonine_moments.py; its output at these alpha
+# (six digits), and the values tests/test_dimension.cpp quotes (white noise 0.5, HCS 0.8, 0.9)
+D2_SECOND = {  # alpha: (HCS a2, HCS a3, white-noise a2, white-noise a3)
+    0.3: (0.113016, -0.119371, 0.063128, -0.010027),
+    0.5: (0.065454, -0.037106, 0.034524, -0.005496),
+    0.8: (-0.025507, -0.010357, -0.014769, -0.006057),
+    0.9: (-0.029671, -0.009366, -0.021316, -0.006141),
+}
+
+
+@pytest.mark.parametrize("alpha", sorted(D2_SECOND))
+def test_second_sonine_of_hard_disks_is_the_derivation_output(alpha):
+    h2, h3, w2, w3 = D2_SECOND[alpha]
+    assert sonine.second_sonine(alpha, "hcs", d=2) == pytest.approx((h2, h3), abs=6e-7)
+    assert sonine.second_sonine(alpha, "white_noise", d=2) == pytest.approx((w2, w3), abs=6e-7)
+
+
+def test_second_sonine_of_hard_disks_vanishes_when_elastic_and_refuses_other_d():
+    for th in ("hcs", "white_noise"):
+        assert sonine.second_sonine(1.0, th, d=2) == (0.0, 0.0)
+    with pytest.raises(ValueError):
+        sonine.second_sonine(0.5, "hcs", d=4)
+    # the d = 3 default is unchanged
+    assert sonine.second_sonine(0.5, "hcs") == sonine.second_sonine(0.5, "hcs", d=3)
+
+
+def _disk_collision_moments(alpha):
+    """J[p, k] = E_{c1, c2 ~ M}[|u| w_k <c1'^2p + c2'^2p - c1^2p - c2^2p>_n] of hard disks (d = 2, M ~
+    exp(-c^2), impact angle density cos/2) with w_0 = 1, w_k = L_k(c1^2) + L_k(c2^2) (Laguerre,
+    d/2 - 1 = 0), by Gauss quadrature: the centre of mass G ~ N(0, 1/4) per component (Hermite:
+    the integrand is a polynomial in G, so exact), u = (r, 0) by isotropy with r ~ r e^(-r^2/2)
+    (Legendre on (0, 16)), the impact angle by Legendre (a smooth integrand): another method than
+    the symbolic algebra of tests/sonine_moments.py."""
+    x, wx = np.polynomial.hermite_e.hermegauss(8)
+    x, wx = x / 2, wx / math.sqrt(2 * math.pi)
+    r, wr = np.polynomial.legendre.leggauss(120)
+    r, wr = 8 * (r + 1), 8 * wr
+    wr = wr * r * np.exp(-r * r / 2)
+    th, wt = np.polynomial.legendre.leggauss(40)
+    th, wt = th * math.pi / 2, wt * math.pi / 2
+    wt = wt * np.cos(th) / 2
+    G1, G2, R, TH = np.meshgrid(x, x, r, th, indexing="ij")
+    W = np.einsum("i,j,k,l->ijkl", wx, wx, wr, wt)
+    c, s = np.cos(TH), np.sin(TH)
+    k = (1 + alpha) / 2 * R * c  # (1 + alpha)/2 (u.n): v' = v - k n, w' = w + k n
+    x1, x2 = (G1 + R / 2) ** 2 + G2**2, (G1 - R / 2) ** 2 + G2**2
+    y1, y2 = (G1 + R / 2 - k * c) ** 2 + (G2 - k * s) ** 2, (G1 - R / 2 + k * c) ** 2 + (G2 + k * s) ** 2
+    weight = {0: 1.0, 2: (1 - 2 * x1 + x1**2 / 2) + (1 - 2 * x2 + x2**2 / 2),
+              3: (1 - 3 * x1 + 1.5 * x1**2 - x1**3 / 6) + (1 - 3 * x2 + 1.5 * x2**2 - x2**3 / 6)}
+    return {(p, q): float(np.sum(W * R * (y1**p + y2**p - x1**p - x2**p) * weight[q]))
+            for p in (1, 2, 3) for q in (0, 2, 3)}
+
+
+@pytest.mark.parametrize("alpha", [0.3, 0.8])
+def test_second_sonine_of_hard_disks_solves_the_moment_equations_by_quadrature(alpha):
+    # Linear in (a2, a3): J_p = J[p, 0] + a2 J[p, 2] + a3 J[p, 3], M2 = 1, M4 = 2(1 + a2),
+    # M6 = 6(1 + 3 a2 - a3) (d = 2). HCS: J4 M2 = 2 J2 M4, J6 M2 = 3 J2 M6; white noise: J4 = 4 J2 M2,
+    # J6 = 9 J2 M4 (the steady moment equations of tests/sonine_moments.py), products dropped.
+    J = _disk_collision_moments(alpha)
+    J1, J2, J3 = (np.array([J[p, 0], J[p, 2], J[p, 3]]) for p in (1, 2, 3))
+    eqs = {"hcs": (J2 - 4 * J1 - np.array([0, 4 * J1[0], 0]), J3 - 18 * J1 - np.array([0, 54 * J1[0], -18 * J1[0]])),
+           "white_noise": (J2 - 4 * J1, J3 - 18 * J1 - np.array([0, 18 * J1[0], 0]))}
+    for th, (e4, e6) in eqs.items():
+        a2, a3 = np.linalg.solve([e4[1:], e6[1:]], [-e4[0], -e6[0]])
+        assert (a2, a3) == pytest.approx(sonine.second_sonine(alpha, th, d=2), abs=1e-12), th
+        assert -e4[0] / e4[1] == pytest.approx(sonine.first_sonine_a2(alpha, th, 1, d=2), abs=1e-12), th

@@ -30,7 +30,7 @@ ITEM_RULES = [
     *[f"tv06_{x}" for x in ("fig1", "fig2", "fig3", "fig4", "fig5", "fig7", "fig8", "dsmc")],
     # issue 10: exact moments and local tail exponents
     "grw05_ex7_moments", "grw05_tail_local_ex7", "grw05_tail_local_ex8", "grw05_tail_local_ex9", "rw05_moments",
-    "beyond_haff", "beyond_a2", "beyond_tail", "beyond_viscoelastic",
+    "beyond_haff", "beyond_a2", "beyond_tail", "beyond_viscoelastic", "beyond_disks_a2",
     # issue 11: weighted particles
     "grw05_tail_swpm_ex7", "grw05_tail_swpm_ex8", "grw05_tail_swpm_ex9", "grw05_tail_swpm_check",
 ]
@@ -73,13 +73,13 @@ def test_dry_run_plans_every_job(profile):
     assert counts.pop("grw05_swpm_run") == counts.pop("grw05_swpm_run_config") == 4
     assert counts.pop("tv06_run") == counts.pop("tv06_run_config") == expected_tv06_runs(config)
     b = config["beyond"]  # issue 14: 2 Haff runs, 2 thermostats x 2 kernels x alphas, the tail run if its own;
-    # one viscoelastic run per delta and the elastic one
+    # one viscoelastic run per delta and the elastic one; 2 thermostats x the hard-disk alphas
     beyond = 2 + 4 * len(b["a2"]["alphas"]) + (b["tail"]["ensembles"] != b["a2"]["ensembles"])
-    beyond += len(b["viscoelastic"]["deltas"]) + 1
+    beyond += len(b["viscoelastic"]["deltas"]) + 1 + 2 * len(b["disks_a2"]["alphas"])
     assert counts.pop("beyond_run") == counts.pop("beyond_run_config") == beyond
     # 11 tables and the window table; TV06 Figs. 3, 4, 7 and §4; Ex. 7 moments, amplitude, RW05
-    # moments; 4 beyond
-    assert counts.pop("table_tex") == 23
+    # moments; 5 beyond
+    assert counts.pop("table_tex") == 24
     assert counts == {"all": 1, "report": 1, **{rule: 1 for rule in ITEM_RULES}}
 
 
@@ -139,6 +139,29 @@ def test_rw05_run_configs_carry_scheme_steps_and_steady_keys(tmp_path):
     d = run["tail"]["dsmc"]
     assert d["histogram"] == {"center": "origin", "shells": 128, "radius": 16.0}  # |v|, GRW05 eq. (37)
     assert d["kernel"]["lambda"] == 1 and d["t_end"] == 0.25
+
+
+def test_hard_disk_run_configs_are_two_dimensional_with_their_own_seeds(tmp_path):
+    config = yaml.safe_load((ROOT / "config" / "quick.yaml").read_text())
+    disks = config["beyond"]["disks_a2"]
+    alpha, N, n = disks["alphas"][0], disks["ensembles"], disks["particles"]
+    targets = {th: f"results/beyond/{th}/{kernel}/alpha={alpha}/N={N}/n={n}/run.yaml"
+               for th, kernel in (("gaussian", "hard_disks"), ("white_noise", "hard_disks"), ("spheres", "hard_spheres"))}
+    targets["spheres"] = targets["spheres"].replace("/spheres/", "/gaussian/")
+    result = snakemake("--configfile", str(ROOT / "config" / "quick.yaml"), "--directory", str(tmp_path),
+                       *targets.values())
+    assert result.returncode == 0, result.stderr
+    run = {k: yaml.safe_load((tmp_path / t).read_text()) for k, t in targets.items()}
+    for th in ("gaussian", "white_noise"):
+        d = run[th]["dsmc"]
+        assert (d["dimension"], d["geometry"], d["moments"], d["thermostat"]) == (2, "impact", 3, th)
+        assert d["kernel"] == {"lambda": 1, "C": disks["C"]} and d["alpha"] == alpha
+        assert (d["t_end"], d["observe_every"], d["steady_from"], d["steady_ci"]) == (
+            disks["t_end"], disks["observe_every"], disks["steady_from"], "batch")
+    assert run["gaussian"]["dsmc"]["majorant"] == "pairwise" and run["gaussian"]["dsmc"]["beta"] == 0.0
+    assert run["white_noise"]["dsmc"]["beta"] == disks["beta"] and "majorant" not in run["white_noise"]["dsmc"]
+    assert "dimension" not in run["spheres"]["dsmc"]  # the d = 3 runs are untouched
+    assert len({r["seed"] for r in run.values()}) == 3
 
 
 def snakemake_config_text(tmp_path):

@@ -1,30 +1,34 @@
 """Beyond the papers (issue 14): free cooling (Haff's law), the homogeneous cooling state under
 the Gaussian thermostat and the white-noise steady state, against theory (docs/config.md,
-Thermostats); free cooling of viscoelastic spheres (docs/config.md, Restitution laws).
+Thermostats); free cooling of viscoelastic spheres (docs/config.md, Restitution laws); hard
+disks in d = 2 (docs/config.md, Dimension and collision geometry).
 
 Raw runs:  results/beyond/<thermostat>/<kernel>/<restitution>/N=<ensembles>/n=<particles>/run.h5
-           with <thermostat> = none (Haff), gaussian or white_noise, <kernel> = maxwell (lambda = 0)
-           or hard_spheres (lambda = 1), <restitution> = alpha=<alpha> (constant) or
-           delta=<delta> (viscoelastic: free-cooling hard spheres only)
+           with <thermostat> = none (Haff), gaussian or white_noise, <kernel> = maxwell (lambda = 0),
+           hard_spheres (lambda = 1) or hard_disks (lambda = 1, dsmc.dimension 2, geometry impact:
+           steady runs only), <restitution> = alpha=<alpha> (constant) or delta=<delta>
+           (viscoelastic: free-cooling hard spheres only)
 Items:     Haff's law (table + figure), a2(alpha) of both thermostats (table + figure), the HCS tail
            (local exponent; table + figure), viscoelastic free cooling (T ~ t^(-5/3); table +
-           figure), in the report section "Beyond the papers".
+           figure), a2 and a3 of hard disks (table + figure), in the report section "Beyond the papers".
 """
 
 BEYOND = config["beyond"]
 BEYOND_PAPER = "Beyond the papers"
-BEYOND_LAMBDA = {"maxwell": 0, "hard_spheres": 1}
+BEYOND_LAMBDA = {"maxwell": 0, "hard_spheres": 1, "hard_disks": 1}
 
 
 def check_beyond(b):
     """Cross-key checks of config beyond that the schema cannot express; ValueError naming the key."""
     visco = b["viscoelastic"]
     for name, timing in [("haff.maxwell", b["haff"]["maxwell"]), ("haff.hard_spheres", b["haff"]["hard_spheres"]),
-                         ("a2", b["a2"]), ("viscoelastic", visco), ("viscoelastic.elastic", visco["elastic"])]:
+                         ("a2", b["a2"]), ("viscoelastic", visco), ("viscoelastic.elastic", visco["elastic"]),
+                         ("disks_a2", b["disks_a2"])]:
         if not _whole(timing["t_end"], timing["observe_every"]):
             raise ValueError(f"beyond.{name}: t_end must be a whole multiple of observe_every")
-    if not b["a2"]["steady_from"] < b["a2"]["t_end"]:
-        raise ValueError("beyond.a2: need steady_from < t_end")
+    for name in ("a2", "disks_a2"):
+        if not b[name]["steady_from"] < b[name]["t_end"]:
+            raise ValueError(f"beyond.{name}: need steady_from < t_end")
     if not set(b["a2"]["key_alphas"]) <= set(b["a2"]["alphas"]):
         raise ValueError("beyond.a2.key_alphas: must be among beyond.a2.alphas")
     if b["tail"]["alpha"] not in b["a2"]["alphas"]:
@@ -48,7 +52,10 @@ def beyond_run_config(wildcards):
     """Run config of results/beyond/{thermostat}/{kernel}/{restitution}/N={N}/n={n}: free cooling
     with the haff timing of the kernel (delta=: the viscoelastic timing, or its elastic one for
     delta 0); gaussian and white_noise steady runs with the a2 timing (the hard-sphere Gaussian
-    runs also keep the histogram of the tail)."""
+    runs also keep the histogram of the tail); hard disks: steady runs in d = 2 with the disks_a2
+    timing, C and beta (beyond_disk_config)."""
+    if wildcards.kernel == "hard_disks":
+        return beyond_disk_config(wildcards)
     law, value = wildcards.restitution.split("=")
     physics = {"beta": 0.0, "gamma": BEYOND["gamma"],
                "kernel": {"lambda": BEYOND_LAMBDA[wildcards.kernel], "C": BEYOND["C"]},
@@ -78,6 +85,25 @@ def beyond_run_config(wildcards):
     return dsmc_run_config(label, physics, wildcards.N, wildcards.n, timing["t_end"], timing["observe_every"], **extra)
 
 
+def beyond_disk_config(wildcards):
+    """Run config of a hard-disk run, results/beyond/{thermostat}/hard_disks/alpha={alpha}/...: d = 2
+    with the hard-disk impact law, moments up to M6 (a3), steady averages with the batch interval
+    (honest for correlated rows; these runs reproduce no paper's intervals)."""
+    law, value = wildcards.restitution.split("=")
+    if law != "alpha" or wildcards.thermostat == "none":
+        raise ValueError(f"{wildcards.thermostat}/{wildcards.restitution}: the hard-disk runs are steady, constant alpha")
+    disks = BEYOND["disks_a2"]
+    physics = {"alpha": float(value), "beta": disks["beta"] if wildcards.thermostat == "white_noise" else 0.0,
+               "gamma": BEYOND["gamma"], "kernel": {"lambda": 1, "C": disks["C"]},
+               "temperature0": BEYOND["temperature0"]}
+    extra = {"thermostat": wildcards.thermostat, "dimension": 2, "geometry": "impact"}
+    if wildcards.thermostat == "gaussian":
+        extra["majorant"] = "pairwise"  # as for hard spheres: exact without kicks
+    extra.update(moments=3, steady_from=disks["steady_from"], steady_ci="batch")
+    label = f"beyond/{wildcards.thermostat}/hard_disks/{wildcards.restitution}/n={wildcards.n}"
+    return dsmc_run_config(label, physics, wildcards.N, wildcards.n, disks["t_end"], disks["observe_every"], **extra)
+
+
 localrules:
     beyond_run_config,
 
@@ -89,7 +115,7 @@ rule beyond_run_config:
         "logs/beyond/{thermostat}/{kernel}/{restitution}/N={N}/n={n}/run_config.log",
     wildcard_constraints:
         thermostat="none|gaussian|white_noise",
-        kernel="maxwell|hard_spheres",
+        kernel="maxwell|hard_spheres|hard_disks",
         restitution="(alpha|delta)=[0-9.]+",
     params:
         run=beyond_run_config,
@@ -109,7 +135,7 @@ rule beyond_run:
         "benchmarks/beyond/{thermostat}/{kernel}/{restitution}/N={N}/n={n}/run.tsv"
     wildcard_constraints:
         thermostat="none|gaussian|white_noise",
-        kernel="maxwell|hard_spheres",
+        kernel="maxwell|hard_spheres|hard_disks",
         restitution="(alpha|delta)=[0-9.]+",
     threads: run_threads
     resources:
@@ -118,7 +144,7 @@ rule beyond_run:
         "{input.granboltz} run {input.config} -o {output.h5} --threads {threads} > {log} 2>&1"
 
 
-HAFF, A2, TAIL, VISCO = BEYOND["haff"], BEYOND["a2"], BEYOND["tail"], BEYOND["viscoelastic"]
+HAFF, A2, TAIL, VISCO, DISKS = BEYOND["haff"], BEYOND["a2"], BEYOND["tail"], BEYOND["viscoelastic"], BEYOND["disks_a2"]
 
 
 rule beyond_haff:
@@ -198,6 +224,24 @@ rule beyond_viscoelastic:
         "../scripts/beyond_viscoelastic.py"
 
 
+rule beyond_disks_a2:
+    input:
+        runs=beyond_runs(["gaussian", "white_noise"], "hard_disks", DISKS["alphas"], DISKS["ensembles"], DISKS["particles"]),
+    output:
+        csv=report("results/tables/beyond_disks_a2.csv", caption="../report/beyond.rst", category="Beyond the papers"),
+        png=report("figures/beyond_disks_a2.png", caption="../report/beyond.rst", category="Beyond the papers"),
+        pdf="figures/beyond_disks_a2.pdf",
+        summary="results/figures/beyond_disks_a2.json",
+    log:
+        "logs/figures/beyond_disks_a2.log",
+    benchmark:
+        "benchmarks/figures/beyond_disks_a2.tsv"
+    params:
+        max_gap=DISKS["max_gap"],
+    script:
+        "../scripts/beyond_disks_a2.py"
+
+
 for _rule, _name, _what in (
     (rules.beyond_haff, "Haff's law", "free cooling: Maxwell molecules T0 e^{−γπC(1−α²)t} exactly; hard spheres "
                                       "T0/(1 + t/t0)² with t0 from the cooling rate with the first-Sonine a2"),
@@ -208,7 +252,11 @@ for _rule, _name, _what in (
                                     "exponential tail b = 1"),
     (rules.beyond_viscoelastic, "Viscoelastic free cooling", "free cooling of viscoelastic hard spheres, "
                                 "ε(g_n) = 1 − C1 δ g_n^{1/5} + C2 δ² g_n^{2/5}: T ∝ t^{−5/3} at late times "
-                                "(Brilliantov–Pöschel), not Haff's t^{−2}; δ = 0 elastic, T constant")):
+                                "(Brilliantov–Pöschel), not Haff's t^{−2}; δ = 0 elastic, T constant"),
+    (rules.beyond_disks_a2, "a2(α) of hard disks (d = 2)", "Sonine coefficients a2, a3 of hard disks (d = 2, impact "
+                            "normals), HCS (Gaussian thermostat) and white noise, against van Noije–Ernst's d = 2 "
+                            "first Sonine and the second Sonine approximation; white-noise T against the energy "
+                            "balance")):
     _runs = _rule.input.runs if hasattr(_rule.input, "runs") else [_rule.input.run]
     report_item(BEYOND_PAPER, _name, _rule, "figure", _rule.output.png, _what, runs=_runs,
                 run_rule=rules.beyond_run, summary=_rule.output.summary)

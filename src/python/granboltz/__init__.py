@@ -10,14 +10,16 @@ Modules, one concern each (import the one you need; nothing heavy is imported he
     layout       the datasets and attributes every output of a model has, as read_run checks them
     dsmc         the DSMC runs of the GRW05/RW05 tables (temperature series, histogram, steady)
     theory       temperature laws, scheme values, the estimator's bias, TV06 §3.1 formulas
-    sonine       Sonine a2, a3 and the steady temperature of the heated gas (any lambda, d = 3)
+    sonine       Sonine a2, a3 and the steady temperature of the heated gas (any lambda, d = 3;
+                 hard disks in d = 2)
     finite_size  fit_finite_size: T(n) = T_inf + c/n over runs at several n
     summary      what repr(run) prints
     tables       GRW05 Tables 1-2, RW05 Tables 1-2
     steady       RW05 Tables 3-6, repeated runs, the effort model
     tails        GRW05 §5.3 tail exponents
     tv06_tables, tv06_histograms   TV06 runs, tables and histograms
-    beyond, viscoelastic   the report section "Beyond the papers" (viscoelastic: free cooling, T ~ t^(-5/3))
+    beyond, viscoelastic, disks   the report section "Beyond the papers" (viscoelastic: free cooling,
+                 T ~ t^(-5/3); disks: a2, a3 of hard disks in d = 2)
     plotting     matplotlib with the house style, reproducible figure files
     files        atomic CSV/text/JSON writing
     report       the reproduction report (subpackage)

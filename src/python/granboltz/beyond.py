@@ -1,7 +1,7 @@
 """Beyond the papers (issue 14): free cooling (Haff's law) and the homogeneous cooling state (HCS)
 with the Gaussian thermostat, beside the white-noise steady state.  Theory, table rows and the
 computed verdicts of the report section "Beyond the papers" (viscoelastic free cooling:
-granboltz.viscoelastic).
+granboltz.viscoelastic; hard disks: granboltz.disks).
 
 Units: density 1, kernel B = C |u|^lambda, collision term gamma Q (docs/config.md, Thermostats).
 Sonine coefficient a2 = <c^4>/15 - 1 of the velocities scaled to T = 1, read from a run as the

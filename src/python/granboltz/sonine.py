@@ -46,19 +46,35 @@ def first_sonine_a2(alpha, thermostat="white_noise", kernel_lambda=1, d=3):
     return num / den
 
 
-def second_sonine(alpha, thermostat="white_noise"):
-    """(a2, a3) of hard spheres, d = 3, in the second Sonine approximation (a2 and a3 kept, their
-    products dropped; beyond.md §1) [approx, derived].  Where it and first_sonine_a2 disagree
-    (HCS at alpha <~ 0.5, where a3 is as large as a2) neither is to be trusted."""
+def second_sonine(alpha, thermostat="white_noise", d=3):
+    """(a2, a3) of hard spheres (d = 3) or hard disks (d = 2) in the second Sonine approximation
+    (a2 and a3 kept, their products dropped) [approx, derived].  d = 3: beyond.md §1.  d = 2: not
+    in beyond.md; derived here with tests/sonine_moments.py (exact symbolic Gaussian moments of the
+    collision integrals with the hard-disk impact law, the script that reproduces every d = 3
+    entry of beyond.md §1-2 and its d = 2 first Sonine) and typed in from its output; e.g. white
+    noise alpha = 0.5: (0.034524, -0.005496), HCS alpha = 0.8: (-0.025507, -0.010357).  Where it
+    and first_sonine_a2 disagree (HCS at alpha <~ 0.5, where a3 is as large as a2) neither is to
+    be trusted."""
     a = np.asarray(alpha, dtype=float)
-    if _is_hcs(thermostat):
+    if d not in (2, 3):
+        raise ValueError(f"second_sonine: d = 2 (hard disks) or 3 (hard spheres), not d = {d}")
+    hcs = _is_hcs(thermostat)
+    if d == 3 and hcs:
         den = np.polyval([2800, -5600, 34800, -84480, -4410, 25716, 112155, -172458, 214357], a)
         p2 = np.polyval([240, -240, 3072, -4352, -842, -1206, -311, 1623], a)
         p3 = np.polyval([80, -80, 736, -864, -710, 838, 169, -217], a)
-    else:
+    elif d == 3:
         den = np.polyval([2800, -5600, 57200, -129280, 445190, -951564, 1474475, -2278218, 1507877], a)
         p2 = np.polyval([240, -240, 3072, -4352, 8118, -10166, -4791, 6103], a)
         p3 = np.polyval([80, -80, 416, -544, -230, 358, 49, -97], a)
+    elif hcs:
+        den = np.polyval([2800, -5600, 34800, -74240, 15950, 9060, 70017, -128358, 102195], a)
+        p2 = np.polyval([240, -240, 2880, -3520, -738, -30, -321, 849], a)
+        p3 = np.polyval([80, -80, 640, -704, -638, 702, 159, -183], a)
+    else:
+        den = np.polyval([2800, -5600, 52720, -110080, 344910, -662172, 919233, -1266150, 750963], a)
+        p2 = np.polyval([240, -240, 2880, -3520, 5406, -6174, -3393, 3921], a)
+        p3 = np.polyval([80, -80, 384, -448, -254, 318, 63, -87], a)
     return 16 * (1 - a) * p2 / den, 128 * (1 - a) * p3 / den
 
 
