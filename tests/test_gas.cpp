@@ -12,6 +12,7 @@
 // + (s2/x2)^2): the covariance of the two species' temperatures is left out; it is small for a
 // tracer, and negative for a thermostat holding their sum fixed (then the sigma is too large, not
 // too small).
+#include <gsl/gsl_cdf.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -331,4 +332,37 @@ TEST(Gas, StoredConfigRoundTrips) {
   const std::string p = plain.to_yaml(true);
   for (const char* key : {"species", "roughness", "rotational_temperature"})
     EXPECT_EQ(p.find(key), std::string::npos) << key;
+}
+
+// The species' steady intervals cover: over independent replicas of a heated binary mixture the
+// spread of T_heavy and T_light about their grand means, in units of each replica's sigma, is 1
+// within the chi-square bounds of its own family-wise level.
+TEST(Gas, SpeciesIntervalsCover) {
+  const int R = 30;
+  std::vector<double> heavy_mean, heavy_sigma, light_mean, light_sigma;
+  for (int k = 0; k < R; ++k) {
+    TempDir dir;
+    const std::string out = run(dir, "replica",
+                                header(100 + k, 10, 200) +
+                                    "  species:\n    - {name: heavy, fraction: 0.4, mass: 5}\n"
+                                    "    - {name: light, fraction: 0.6, mass: 1}\n"
+                                    "  alpha: 0.7\n  beta: 1\n" + kHardSpheres +
+                                    "  initial: {temperature: 6}\n  t_end: 12\n  observe_every: 0.25\n"
+                                    "  steady_from: 4\n");
+    H5Reader f(out);
+    const Steady h = steady(f, "/species/heavy/temperature"), l = steady(f, "/species/light/temperature");
+    heavy_mean.push_back(h.mean), heavy_sigma.push_back(h.sigma);
+    light_mean.push_back(l.mean), light_sigma.push_back(l.sigma);
+  }
+  for (const auto& [mean, sigma] : {std::pair{heavy_mean, heavy_sigma}, std::pair{light_mean, light_sigma}}) {
+    double grand = 0.0;
+    for (double m : mean) grand += m / R;
+    double ss = 0.0;
+    for (int k = 0; k < R; ++k) ss += std::pow((mean[k] - grand) / sigma[k], 2);
+    const double spread = std::sqrt(ss / (R - 1));
+    // (R - 1) spread^2 is about chi-square with R - 1 dof; each sigma has 9 dof (10 ensembles), so
+    // a deviation over it is Student t with sd sqrt(9/7) = 1.13: the upper bound carries 1.25.
+    EXPECT_GT(spread, std::sqrt(gsl_cdf_chisq_Pinv(0.0005, R - 1) / (R - 1))) << spread;
+    EXPECT_LT(spread, 1.25 * std::sqrt(gsl_cdf_chisq_Qinv(0.0005, R - 1) / (R - 1))) << spread;
+  }
 }
