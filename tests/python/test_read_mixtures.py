@@ -144,3 +144,30 @@ def test_the_new_datasets_are_required_only_when_the_config_asks(base_run, tmp_p
     assert "temperature_rotational" not in run.observables and len(run.species) == 2
     rough = read_run(write_mixture(base_run, tmp_path / "rough.h5", species=None))
     assert rough.species == {} and "temperature_rotational" in rough.observables
+
+
+def _with_config(path, **dsmc):
+    with h5py.File(path, "r+") as f:
+        config = yaml.safe_load(f.attrs["config"])
+        config["dsmc"].update(dsmc)
+        f.attrs["config"] = yaml.safe_dump(config)
+    return str(path)
+
+
+@pytest.mark.parametrize("script", ["beyond_mixture.py", "beyond_rough.py"])
+def test_the_item_scripts_write_table_figure_and_summary(base_run, tmp_path, run_script, script):
+    """Each item script on two synthetic mixture-of-rough-spheres files (values from the
+    one-species run: the numbers mean nothing, the files' layout is the simulator's)."""
+    runs = [_with_config(write_mixture(base_run, tmp_path / f"{k}.h5"), alpha=alpha, thermostat="gaussian")
+            for k, alpha in enumerate((0.9, 0.7))]
+    out = {key: str(tmp_path / f"item.{key}") for key in ("csv", "png", "pdf")}
+    out["summary"] = str(tmp_path / "item.json")
+    params = {"x1": 0.5} if script == "beyond_mixture.py" else {"kappa": 0.4}
+    log = run_script(script, input={"runs": runs}, output=out, params=params)
+    assert "compared with the Maxwellian approximation" in log
+    header = open(out["csv"]).readline().strip().split(",")
+    want = (["mass_ratio", "alpha", "t1_t2", "t1_t2_ci", "t1_t2_garzo_dufty", "difference"]
+            if script == "beyond_mixture.py" else
+            ["thermostat", "alpha", "beta", "theta", "theta_ci", "theta_maxwellian", "difference"])
+    assert header[:len(want)] == want and len(open(out["csv"]).readlines()) == 3
+    assert '"short": "compared with an approximation' in open(out["summary"]).read()
