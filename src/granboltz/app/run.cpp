@@ -140,6 +140,9 @@ std::uint64_t estimate_memory(const Config& config, unsigned threads) {
                     16.0 * static_cast<double>(std::bit_ceil(d.weights.max_particles + 2)));
     } else {
       bytes += t * static_cast<double>(d.particles) * sizeof(Particle);
+      // Rough particles: the spins beside them, and a scaled copy of the state at observations.
+      if (d.roughness.on) bytes += t * static_cast<double>(d.particles) * sizeof(Vec3);
+      if (d.general()) bytes += t * static_cast<double>(d.particles) * sizeof(Particle);
     }
     if (d.majorant == MajorantKind::kPairwise) bytes += t * static_cast<double>(d.particles) * 8.0;
     const double scalars = kNumScalars + d.moments;

@@ -3,6 +3,7 @@
 #include <yaml-cpp/eventhandler.h>
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -435,6 +436,62 @@ std::string Section::choice(const std::string& key, const std::vector<std::strin
 Section Section::sub(const std::string& key) const {
   if (!has(key)) return Section(YAML::Node(YAML::NodeType::Map), name(key));
   return Section(node_[key], name(key));
+}
+
+bool Section::is_sequence(const std::string& key) const {
+  return has(key) && node_[key].IsSequence();
+}
+
+bool Section::is_mapping(const std::string& key) const { return has(key) && node_[key].IsMap(); }
+
+std::vector<Section> Section::list(const std::string& key, std::size_t max) const {
+  const YAML::Node n = at(key, "a list of mappings", false);
+  if (!n.IsSequence() || n.size() == 0)
+    throw ConfigError(name(key) + " = " + shown(n) + ": must be a non-empty list of mappings");
+  if (n.size() > max)
+    throw ConfigError(name(key) + ": " + std::to_string(n.size()) + " entries: at most " +
+                      std::to_string(max) + " allowed");
+  std::vector<Section> out;
+  for (std::size_t i = 0; i < n.size(); ++i)
+    out.emplace_back(n[i], name(key) + "[" + std::to_string(i) + "]");
+  return out;
+}
+
+std::vector<double> Section::matrix(const std::string& key, std::size_t size) const {
+  const YAML::Node n = at(key, "a matrix", false);
+  const std::string shape = std::to_string(size) + " x " + std::to_string(size);
+  if (!n.IsSequence() || n.size() != size)
+    throw ConfigError(name(key) + " = " + shown(n) + ": must be a number or a " + shape +
+                      " matrix (a list of " + std::to_string(size) + " lists)");
+  std::vector<double> out;
+  for (std::size_t i = 0; i < size; ++i) {
+    if (!n[i].IsSequence() || n[i].size() != size)
+      throw ConfigError(name(key) + "[" + std::to_string(i) + "] = " + shown(n[i]) +
+                        ": must be a list of " + std::to_string(size) + " numbers (a " + shape +
+                        " matrix)");
+    for (std::size_t j = 0; j < size; ++j)
+      out.push_back(real_of(n[i][j], key + "[" + std::to_string(i) + "][" + std::to_string(j) + "]"));
+  }
+  return out;
+}
+
+std::string Section::identifier(const std::string& key) const {
+  const YAML::Node n = at(key, "a name", false);
+  bool ok = n.IsScalar() && !n.Scalar().empty() && n.Scalar().size() <= 64;
+  if (ok)
+    for (const char c : n.Scalar())
+      ok = ok && (std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-');
+  if (!ok)
+    throw ConfigError(name(key) + " = " + shown(n) +
+                      ": must be a name of 1 to 64 characters from A-Z, a-z, 0-9, _ and -");
+  return n.Scalar();
+}
+
+std::vector<std::string> Section::keys() const {
+  std::vector<std::string> out;
+  for (const auto& kv : node_)
+    if (kv.first.IsScalar()) out.push_back(kv.first.Scalar());
+  return out;
 }
 
 void Section::check(bool ok, const std::string& key, double value,

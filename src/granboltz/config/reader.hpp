@@ -43,6 +43,17 @@ class Section {
                      const std::string& fallback) const;
   /// A sub-mapping; an absent key gives an empty section, a null one is an error.
   Section sub(const std::string& key) const;
+  /// Whether a written key holds a sequence, or a mapping.
+  bool is_sequence(const std::string& key) const;
+  bool is_mapping(const std::string& key) const;
+  /// A required sequence of mappings, each a section named "<key>[i]"; at most `max` entries.
+  std::vector<Section> list(const std::string& key, std::size_t max) const;
+  /// A required square matrix of finite numbers written as a sequence of `size` sequences.
+  std::vector<double> matrix(const std::string& key, std::size_t size) const;
+  /// A required plain text of 1..64 characters from [A-Za-z0-9_-] (a name used in output paths).
+  std::string identifier(const std::string& key) const;
+  /// The keys written in this section, in order.
+  std::vector<std::string> keys() const;
 
   /// Throws for a value outside its allowed range: "<key> = <value>: <allowed>".
   void check(bool ok, const std::string& key, double value, const std::string& allowed) const;

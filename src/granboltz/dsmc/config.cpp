@@ -1,6 +1,7 @@
 // The `dsmc:` section: reading, validation and emission (schema: docs/config.md).
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <type_traits>
@@ -73,6 +74,90 @@ std::uint64_t DsmcConfig::observations() const {
   return static_cast<std::uint64_t>(std::llround(t_end / observe_every));
 }
 
+namespace {
+// dsmc.species: names, fractions, masses, diameters; counts by the largest remainder of x_a n
+// (ties to the species listed first), each at least 1.
+void read_species(const Section& s, DsmcConfig& c) {
+  c.species_written = true;
+  const std::vector<Section> list = s.list("species", kMaxSpecies);
+  double sum = 0.0;
+  for (const Section& e : list) {
+    SpeciesSpec sp;
+    sp.name = e.identifier("name");
+    for (const auto& other : c.species)
+      if (other.name == sp.name)
+        throw ConfigError(e.name("name") + " = " + quote_value(sp.name) +
+                          ": given twice (species names must differ)");
+    sp.fraction = e.real("fraction");
+    e.check(sp.fraction > 0 && sp.fraction <= 1, "fraction", sp.fraction,
+            "must satisfy 0 < fraction <= 1");
+    sp.mass = e.real("mass", 1.0);
+    e.check(sp.mass > 0 && sp.mass <= 1e6, "mass", sp.mass, "must satisfy 0 < mass <= 10^6");
+    sp.diameter = e.real("diameter", 1.0);
+    e.check(sp.diameter > 0 && sp.diameter <= 1e3, "diameter", sp.diameter,
+            "must satisfy 0 < diameter <= 10^3");
+    e.finish({"name", "fraction", "mass", "diameter"});
+    sum += sp.fraction;
+    c.species.push_back(sp);
+  }
+  if (std::fabs(sum - 1.0) > 1e-9)
+    throw ConfigError(s.name("species") + ": the fractions sum to " + format_real(sum) +
+                      ": they must sum to 1");
+  const double n = static_cast<double>(c.particles);
+  std::uint64_t given = 0;
+  std::vector<std::pair<double, std::size_t>> rest;
+  for (std::size_t a = 0; a < c.species.size(); ++a) {
+    const double x = c.species[a].fraction * n;
+    c.species[a].count = static_cast<std::uint64_t>(std::floor(x));
+    given += c.species[a].count;
+    rest.emplace_back(x - std::floor(x), a);
+  }
+  std::stable_sort(rest.begin(), rest.end(),
+                   [](const auto& p, const auto& q) { return p.first > q.first; });
+  for (std::size_t k = 0; given < c.particles; ++k, ++given) ++c.species[rest[k].second].count;
+  std::uint64_t offset = 0;
+  for (std::size_t a = 0; a < c.species.size(); ++a) {
+    if (c.species[a].count == 0)
+      throw ConfigError(list[a].name("fraction") + " = " + format_real(c.species[a].fraction) +
+                        ": gives no particle of the " + std::to_string(c.particles) +
+                        " (dsmc.particles); raise it or the fraction");
+    c.species[a].offset = offset;
+    offset += c.species[a].count;
+  }
+}
+
+// dsmc.roughness: {beta, inertia}, inertia a number or a mapping of species names to numbers.
+void read_roughness(const Section& s, DsmcConfig& c) {
+  const Section r = s.sub("roughness");
+  c.roughness.on = true;
+  c.roughness.beta = r.real("beta");
+  r.check(c.roughness.beta >= -1 && c.roughness.beta <= 1, "beta", c.roughness.beta,
+          "must satisfy -1 <= beta <= 1 (-1 smooth, 1 perfectly rough)");
+  const double max = c.dimension == 2 ? 1.0 : 2.0 / 3.0;
+  const std::string allowed = c.dimension == 2 ? "must satisfy 0 < inertia <= 1 (1/2: a uniform disk)"
+                                               : "must satisfy 0 < inertia <= 2/3 (2/5: a uniform sphere)";
+  if (r.is_mapping("inertia")) {
+    if (!c.species_written)
+      throw ConfigError(r.name("inertia") + ": per species needs dsmc.species; give a number");
+    const Section m = r.sub("inertia");
+    std::vector<std::string> names;
+    for (const auto& sp : c.species) names.push_back(sp.name);
+    m.finish(names);  // a name that is not a species first, then the missing ones
+    for (auto& sp : c.species) {
+      sp.inertia = m.real(sp.name);
+      m.check(sp.inertia > 0 && sp.inertia <= max, sp.name, sp.inertia, allowed);
+    }
+    c.roughness.inertia_per_species = true;
+    c.roughness.inertia = c.species[0].inertia;
+  } else {
+    c.roughness.inertia = r.real("inertia");
+    r.check(c.roughness.inertia > 0 && c.roughness.inertia <= max, "inertia", c.roughness.inertia,
+            allowed);
+  }
+  r.finish({"beta", "inertia"});
+}
+}  // namespace
+
 DsmcConfig read_dsmc(const Section& s) {
   DsmcConfig c;
   c.particles = s.integer("particles");
@@ -88,6 +173,7 @@ DsmcConfig read_dsmc(const Section& s) {
   c.scheme = scheme == "euler" ? Scheme::kEuler
              : scheme == "strang" ? Scheme::kStrang : Scheme::kNoSplit;
 
+  if (s.has("species")) read_species(s, c);
   if (s.has("restitution")) {
     if (s.has("alpha"))
       throw ConfigError(s.name("restitution") + ": given with " + s.name("alpha") +
@@ -95,11 +181,29 @@ DsmcConfig read_dsmc(const Section& s) {
     c.restitution = read_restitution(s);
     // The constant law written out is dsmc.alpha: same model, same stored config text.
     if (const auto* k = std::get_if<ConstantRestitution>(&c.restitution)) c.alpha = k->alpha;
+  } else if (s.is_sequence("alpha")) {
+    if (!c.species_written)
+      throw ConfigError(s.name("alpha") + ": a matrix needs dsmc.species (one row per species); "
+                        "without species alpha is a number");
+    const std::size_t K = c.species.size();
+    c.alpha_matrix = s.matrix("alpha", K);
+    for (std::size_t a = 0; a < K; ++a)
+      for (std::size_t b = 0; b < K; ++b) {
+        const std::string key = "alpha[" + std::to_string(a) + "][" + std::to_string(b) + "]";
+        const double x = c.alpha_matrix[a * K + b];
+        s.check(x > 0 && x <= 1, key, x, "must satisfy 0 < alpha <= 1");
+        s.check(x == c.alpha_matrix[b * K + a], key, x,
+                "the matrix must be symmetric: alpha[" + std::to_string(b) + "][" +
+                    std::to_string(a) + "] = " + format_real(c.alpha_matrix[b * K + a]));
+      }
+    c.alpha = c.alpha_matrix[0];
+    c.restitution = ConstantRestitution{c.alpha};
   } else {
     c.alpha = s.real("alpha");
     s.check(c.alpha > 0 && c.alpha <= 1, "alpha", c.alpha, "must satisfy 0 < alpha <= 1");
     c.restitution = ConstantRestitution{c.alpha};
   }
+  if (s.has("roughness")) read_roughness(s, c);
   std::vector<std::string> thermostats;  // the registry's names, in its order
   ThermostatList::each([&](auto th) { thermostats.emplace_back(decltype(th)::kName); });
   const std::string thermostat = s.choice("thermostat", thermostats, "white_noise");
@@ -128,7 +232,17 @@ DsmcConfig read_dsmc(const Section& s) {
   const Section init = s.sub("initial");
   c.initial_temperature = init.real("temperature", 1.0);
   init.check(c.initial_temperature > 0, "temperature", c.initial_temperature, "must be > 0");
-  init.finish({"temperature"});
+  c.initial_rotational_temperature = c.initial_temperature;
+  if (init.has("rotational_temperature")) {
+    if (!c.roughness.on)
+      throw ConfigError(init.name("rotational_temperature") +
+                        ": needs dsmc.roughness (smooth particles do not rotate)");
+    c.rotational_temperature_written = true;
+    c.initial_rotational_temperature = init.real("rotational_temperature");
+    init.check(c.initial_rotational_temperature >= 0, "rotational_temperature",
+               c.initial_rotational_temperature, "must be >= 0");
+  }
+  init.finish({"temperature", "rotational_temperature"});
 
   c.t_end = s.real("t_end");
   s.check(c.t_end > 0, "t_end", c.t_end, "must be > 0");
@@ -243,8 +357,29 @@ DsmcConfig read_dsmc(const Section& s) {
     if (c.majorant == MajorantKind::kPairwise)
       throw ConfigError(s.name("weights") + ": method swpm supports only majorant: global");
   }
+  if (c.general()) {
+    // What the general gas engine (dsmc/gas.cpp) implements; refused rather than half-done.
+    const std::string what = c.species_written ? "dsmc.species" : "dsmc.roughness";
+    if (c.weights.swpm)
+      throw ConfigError(s.name("weights") + ": method swpm supports one species of smooth "
+                        "particles, not " + what);
+    if (!c.majorant_auto && c.majorant == MajorantKind::kPairwise)
+      throw ConfigError(s.name("majorant") + " = pairwise: not available with " + what +
+                        "; use majorant: global (one bound per pair of species)");
+    if (c.majorant_update == MajorantUpdate::kPaper)
+      throw ConfigError(s.name("majorant_update") + " = paper: not available with " + what +
+                        " (the papers' truncated kernel); use strict");
+    if (!c.species_written) {  // rough particles of one species: unit mass and diameter
+      SpeciesSpec one;
+      one.name = "gas";
+      one.count = c.particles;
+      c.species.push_back(one);
+    }
+    if (!c.roughness.inertia_per_species)
+      for (auto& sp : c.species) sp.inertia = c.roughness.on ? c.roughness.inertia : 0.0;
+  }
   if (c.majorant_auto) c.majorant = auto_majorant(c);
-  s.finish({"particles", "dimension", "geometry", "scheme", "steps", "alpha", "beta", "thermostat", "gamma", "kernel",
+  s.finish({"particles", "species", "roughness", "dimension", "geometry", "scheme", "steps", "alpha", "beta", "thermostat", "gamma", "kernel",
             "initial", "t_end", "observe_every", "histogram", "majorant", "majorant_update",
             "moments", "restitution",
             "steady_from", "steady_ci", "weights"});
@@ -263,8 +398,43 @@ void emit_dsmc(YAML::Emitter& out, const DsmcConfig& c) {
   if (c.scheme != Scheme::kNoSplit) out << YAML::Key << "steps" << YAML::Value << c.steps;
   // Only a non-constant law is written as dsmc.restitution, in alpha's place: the text of every
   // constant-alpha config stays as before (checkpoints and merge compare it).
-  if (is_constant(c.restitution)) out << YAML::Key << "alpha" << YAML::Value << format_real(c.alpha);
-  else emit_restitution(out, c.restitution);
+  if (c.species_written) {
+    out << YAML::Key << "species" << YAML::Value << YAML::BeginSeq;
+    for (const auto& sp : c.species)
+      out << YAML::Flow << YAML::BeginMap << YAML::Key << "name" << YAML::Value << sp.name
+          << YAML::Key << "fraction" << YAML::Value << format_real(sp.fraction)
+          << YAML::Key << "mass" << YAML::Value << format_real(sp.mass)
+          << YAML::Key << "diameter" << YAML::Value << format_real(sp.diameter) << YAML::EndMap;
+    out << YAML::EndSeq;
+  }
+  if (!c.alpha_matrix.empty()) {
+    const std::size_t K = c.species.size();
+    out << YAML::Key << "alpha" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+    for (std::size_t a = 0; a < K; ++a) {
+      out << YAML::Flow << YAML::BeginSeq;
+      for (std::size_t b = 0; b < K; ++b) out << format_real(c.alpha_matrix[a * K + b]);
+      out << YAML::EndSeq;
+    }
+    out << YAML::EndSeq;
+  } else if (is_constant(c.restitution)) {
+    out << YAML::Key << "alpha" << YAML::Value << format_real(c.alpha);
+  } else {
+    emit_restitution(out, c.restitution);
+  }
+  if (c.roughness.on) {
+    out << YAML::Key << "roughness" << YAML::Value << YAML::Flow << YAML::BeginMap
+        << YAML::Key << "beta" << YAML::Value << format_real(c.roughness.beta)
+        << YAML::Key << "inertia" << YAML::Value;
+    if (c.roughness.inertia_per_species) {
+      out << YAML::Flow << YAML::BeginMap;
+      for (const auto& sp : c.species)
+        out << YAML::Key << sp.name << YAML::Value << format_real(sp.inertia);
+      out << YAML::EndMap;
+    } else {
+      out << format_real(c.roughness.inertia);
+    }
+    out << YAML::EndMap;
+  }
   out << YAML::Key << "beta" << YAML::Value << format_real(c.beta);
   out << YAML::Key << "thermostat" << YAML::Value << thermostat_name(c.thermostat);
   out << YAML::Key << "gamma" << YAML::Value << format_real(c.kernel.gamma);
@@ -272,8 +442,11 @@ void emit_dsmc(YAML::Emitter& out, const DsmcConfig& c) {
       << YAML::Key << "lambda" << YAML::Value << format_real(c.kernel.lambda)
       << YAML::Key << "C" << YAML::Value << format_real(c.kernel.C) << YAML::EndMap;
   out << YAML::Key << "initial" << YAML::Value << YAML::Flow << YAML::BeginMap
-      << YAML::Key << "temperature" << YAML::Value << format_real(c.initial_temperature)
-      << YAML::EndMap;
+      << YAML::Key << "temperature" << YAML::Value << format_real(c.initial_temperature);
+  if (c.roughness.on)
+    out << YAML::Key << "rotational_temperature" << YAML::Value
+        << format_real(c.initial_rotational_temperature);
+  out << YAML::EndMap;
   out << YAML::Key << "t_end" << YAML::Value << format_real(c.t_end);
   out << YAML::Key << "observe_every" << YAML::Value << format_real(c.observe_every);
   if (c.histogram.shells > 0) {
@@ -330,7 +503,7 @@ MajorantKind auto_majorant(const DsmcConfig& c) {
   // It is exact only without kicks between the events, and meaningless for Maxwell molecules.
   const bool kicks_between_events =
       c.scheme == Scheme::kNoSplit && c.thermostat == Thermostat::kWhiteNoise && c.beta > 0;
-  if (c.kernel.lambda == 0 || kicks_between_events || c.weights.swpm ||
+  if (c.kernel.lambda == 0 || kicks_between_events || c.weights.swpm || c.general() ||
       c.particles > kAutoPairwiseMaxParticles)
     return MajorantKind::kGlobal;
   return MajorantKind::kPairwise;

@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <vector>
 
 #include "granboltz/physics/kernel.hpp"
 #include "granboltz/physics/restitution/laws.hpp"
@@ -64,6 +65,31 @@ struct WeightsSpec {
   SplitSpec split;                 ///< dsmc.weights.split (absent: off)
 };
 
+/// One species of a mixture (dsmc.species). The particles of species a are the block
+/// [offset, offset + count) of every ensemble, in the order the species are listed.
+struct SpeciesSpec {
+  std::string name;
+  double fraction = 1.0;  ///< x_a as written; count = N_a from the largest remainder of x_a n
+  double mass = 1.0;
+  double diameter = 1.0;
+  double inertia = 0.0;   ///< kappa_a = 4 I_a/(m_a sigma_a^2) (rough particles)
+  std::uint64_t count = 0, offset = 0;
+  /// I_a = kappa_a m_a (sigma_a/2)^2.
+  double moment_of_inertia() const { return inertia * mass * 0.25 * diameter * diameter; }
+};
+
+/// dsmc.roughness: rough particles with tangential restitution beta in [-1, 1] (-1: smooth,
+/// 1: perfectly rough) and reduced moment of inertia kappa = 4 I/(m sigma^2) in (0, 2/3].
+struct RoughnessSpec {
+  bool on = false;
+  double beta = -1.0;
+  double inertia = 0.4;          ///< kappa of every species unless given per species
+  bool inertia_per_species = false;
+};
+
+/// The most species dsmc.species may list.
+inline constexpr std::size_t kMaxSpecies = 16;
+
 struct DsmcConfig {
   std::uint64_t particles = 0;  ///< n
   int dimension = 3;            ///< d: velocities in R^d (2: z = 0)
@@ -92,6 +118,21 @@ struct DsmcConfig {
   /// which is what the reproduction profiles ask for (their outputs keep their bits).
   bool steady_ci_independent = false;
   WeightsSpec weights;      ///< dsmc.weights (absent: constant weights)
+  /// dsmc.species (empty: one species of unit mass and diameter, the papers' gas). Filled for
+  /// every general run (see general()), with one unnamed species if none was written.
+  std::vector<SpeciesSpec> species;
+  bool species_written = false;    ///< dsmc.species was given
+  std::vector<double> alpha_matrix;  ///< K x K restitution coefficients when written as a matrix
+  RoughnessSpec roughness;
+  double initial_rotational_temperature = 1.0;  ///< T_rot(0) (rough), default the temperature
+  bool rotational_temperature_written = false;
+
+  /// The general gas engine (dsmc/gas.hpp) runs it: mixtures or rough particles.
+  bool general() const { return species_written || roughness.on; }
+  /// alpha of the pair of species (a, b).
+  double pair_alpha(std::size_t a, std::size_t b) const {
+    return alpha_matrix.empty() ? alpha : alpha_matrix[a * species.size() + b];
+  }
 
   std::uint64_t observations() const;  ///< M: observation times are t_m, m = 0..M
   double time_step() const { return t_end / static_cast<double>(steps); }

@@ -80,9 +80,6 @@ std::string moment_name(int p) { return "moment_" + std::to_string(2 * p); }
 
 Observation measure(std::span<const Particle> particles, std::span<double> moments,
                     int dimension) {
-  if (moments.size() > static_cast<std::size_t>(kMaxMoments))
-    throw std::logic_error("measure: more than kMaxMoments speed moments");
-  const std::size_t moment_count = moments.size();
   const double inv_n = 1.0 / static_cast<double>(particles.size());
   // The mean, two sums per SSE2 instruction (see central_sums).
   V2 mxy = {0, 0};
@@ -92,7 +89,15 @@ Observation measure(std::span<const Particle> particles, std::span<double> momen
     mz += q.v.z;
   }
   const Vec3 V = inv_n * Vec3{mxy[0], mxy[1], mz};
+  return measure_about(particles, V, moments, dimension);
+}
 
+Observation measure_about(std::span<const Particle> particles, Vec3 V, std::span<double> moments,
+                          int dimension) {
+  if (moments.size() > static_cast<std::size_t>(kMaxMoments))
+    throw std::logic_error("measure: more than kMaxMoments speed moments");
+  const std::size_t moment_count = moments.size();
+  const double inv_n = 1.0 / static_cast<double>(particles.size());
   const CentralSums sums = central_sums(particles, V, static_cast<int>(moment_count));
   const double* c2p = sums.c2p;
   const double cc[6] = {sums.xx_yy[0], sums.xx_yy[1], sums.zz_xy[0],

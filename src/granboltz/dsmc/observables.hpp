@@ -50,6 +50,10 @@ std::string moment_name(int p);
 Observation measure(std::span<const Particle> particles, std::span<double> moments = {},
                     int dimension = 3);
 
+/// measure() about a given centre V instead of the particles' mean (which measure() passes).
+Observation measure_about(std::span<const Particle> particles, Vec3 V, std::span<double> moments,
+                          int dimension);
+
 /// Crit(t) of RW05 eq. (29) from the central moments. In d dimensions each term is normalised by
 /// its Maxwellian variance as in d = 3: 1/2 |P - p I|^2/T^2 + 2/(d+2) |q|^2/T^3 +
 /// gamma^2/(8 d (d+2) T^4) (p = tr P/d; d = 3 gives 2/5 and 1/120).

@@ -12,6 +12,8 @@
 
 #include "granboltz/config/reader.hpp"
 #include "granboltz/dsmc/ensemble.hpp"
+#include "granboltz/dsmc/gas.hpp"
+#include "granboltz/dsmc/gas_observables.hpp"
 #include "granboltz/dsmc/observables.hpp"
 #include "granboltz/dsmc/weighted.hpp"
 
@@ -66,6 +68,37 @@ void add_cross(Moments2* out, const double* M, std::uint64_t P) {
 }
 }  // namespace
 
+std::vector<RowSet> extra_row_sets(const DsmcConfig& d) {
+  std::vector<RowSet> out;
+  if (d.species_written)
+    for (std::size_t a = 0; a < d.species.size(); ++a)
+      out.push_back({"species_" + std::to_string(a) + "_", "/species/" + d.species[a].name,
+                     static_cast<std::uint64_t>(kNumScalars), static_cast<std::uint64_t>(d.moments)});
+  if (d.roughness.on) out.push_back({"rotation_", "", 1, 0});
+  return out;
+}
+
+namespace {
+/// The accumulators of a row set other than the first (the layout of the first is written out in
+/// dsmc_layout, in the order outputs of earlier versions have).
+void declare_row_set(Record& r, const DsmcConfig& d, const RowSet& s) {
+  const std::uint64_t rows = d.observations() + 1, W = s.width, P = s.P;
+  r.declare_moments(s.prefix + "series", rows * W);
+  if (d.steady) r.declare_moments(s.prefix + "steady", W);
+  if (P) r.declare_moments(s.prefix + "moment_series", rows * P);
+  if (P && d.steady) r.declare_moments(s.prefix + "moment_steady", P);
+  if (d.steady) {
+    r.declare_moments(s.prefix + "steady_ensemble", W + P);
+    if (const std::uint64_t L = steady_block_levels(d))
+      r.declare_moments(s.prefix + "steady_blocks", L * (W + P));
+  }
+  if (const std::uint64_t C = cross_pairs(P)) {
+    r.declare_moments(s.prefix + "moment_cross", rows * C);
+    if (d.steady) r.declare_moments(s.prefix + "steady_moment_cross", C);
+  }
+}
+}  // namespace
+
 Record dsmc_layout(const DsmcRunConfig& config) {
   const DsmcConfig& d = config.dsmc;
   const std::uint64_t rows = d.observations() + 1;
@@ -112,6 +145,10 @@ Record dsmc_layout(const DsmcRunConfig& config) {
     if (d.steady) r.declare_moments("histogram_component_steady", K1);
     if (d.weights.swpm) r.declare_moments("histogram_component_weight", rows * K1);
   }
+  // The general gas: each species' rows, the rotational temperature, per-species events.
+  for (const RowSet& s : extra_row_sets(d)) declare_row_set(r, d, s);
+  if (d.species_written)
+    for (const auto& sp : d.species) r.declare_column("/events/species/" + sp.name + "/collisions", false);
   return r;
 }
 
@@ -121,6 +158,7 @@ namespace {
 struct InProgress {
   std::unique_ptr<DsmcEnsemble> ensemble;
   std::unique_ptr<WeightedEnsemble> weighted;  // dsmc.weights: swpm (then `ensemble` is empty)
+  std::unique_ptr<GasEnsemble> gas;            // mixtures, rough particles (dsmc/gas.hpp)
   std::uint64_t next = 0;              // the next observation index m
   std::vector<Observation> obs;        // [rows]
   std::vector<double> moments;         // [rows * P]: <|v - V|^{2p}>, p = 1..P
@@ -128,6 +166,8 @@ struct InProgress {
   std::vector<double> whist;           // swpm: [rows * K1] weight per shell
   std::vector<std::uint64_t> comp;     // histogram.component: [rows * K1] particles per bin
   std::vector<double> wcomp;           // swpm and histogram.component: [rows * K1] weight per bin
+  // The general gas: for each of extra_row_sets(), [rows * width] scalars and [rows * P] moments.
+  std::vector<std::vector<double>> xobs, xmoments;
 };
 
 // An observable that overflowed: named with the values that make a run overflow, instead of
@@ -135,6 +175,7 @@ struct InProgress {
 [[noreturn]] void throw_not_finite(int k, double value, double t, std::uint64_t e) {
   const char* name = "an observable";
   for (const auto& o : kObservables) {
+    if (k < 0) break;
     const int width = o.rank == 0 ? 1 : o.rank == 1 ? 3 : 9;
     if (k >= o.offset && k < o.offset + width) name = o.name;
   }
@@ -152,8 +193,23 @@ void save_in_progress(H5Writer& out, std::uint64_t e, const InProgress& w) {
     w.weighted->save(out, g);
     out.write(g + "/histogram_weight", w.whist, {w.whist.size()});
     if (!w.wcomp.empty()) out.write(g + "/histogram_component_weight", w.wcomp, {w.wcomp.size()});
+  } else if (w.gas) {
+    w.gas->save(out, g);
   } else {
     w.ensemble->save(out, g);
+  }
+  for (std::size_t k = 0; k < w.xobs.size(); ++k) {
+    const std::string x = g + "/row_set_" + std::to_string(k);
+    const std::uint64_t W = w.xobs[k].size() / w.obs.size(), P = w.xmoments[k].size() / w.obs.size();
+    out.write(x + "/observations",
+              std::vector<double>(w.xobs[k].begin(),
+                                  w.xobs[k].begin() + static_cast<std::ptrdiff_t>(w.next * W)),
+              {w.next, W});
+    if (P)
+      out.write(x + "/moment_observations",
+                std::vector<double>(w.xmoments[k].begin(),
+                                    w.xmoments[k].begin() + static_cast<std::ptrdiff_t>(w.next * P)),
+                {w.next, P});
   }
   std::vector<double> obs;
   for (std::uint64_t m = 0; m < w.next; ++m) obs.insert(obs.end(), w.obs[m].begin(), w.obs[m].end());
@@ -178,6 +234,8 @@ InProgress load_in_progress(const DsmcConfig& d, const H5Reader& in, std::uint64
     w.whist = in.read_double(g + "/histogram_weight");
     if (w.whist.size() != rows * K1)
       throw std::runtime_error(in.path() + ": malformed ensemble state " + g);
+  } else if (d.general()) {
+    w.gas = std::make_unique<GasEnsemble>(d, in, g, slot);
   } else {
     w.ensemble = std::make_unique<DsmcEnsemble>(d, in, g, slot);
   }
@@ -200,6 +258,23 @@ InProgress load_in_progress(const DsmcConfig& d, const H5Reader& in, std::uint64
     const auto moments = in.read_double(path);
     std::copy(moments.begin(), moments.end(), w.moments.begin());
   }
+  const std::vector<RowSet> extra = extra_row_sets(d);
+  for (std::size_t k = 0; k < extra.size(); ++k) {
+    const std::string x = g + "/row_set_" + std::to_string(k);
+    const std::uint64_t W = extra[k].width, Q = extra[k].P;
+    w.xobs.emplace_back(rows * W, 0.0);
+    w.xmoments.emplace_back(rows * Q, 0.0);
+    if (!in.exists(x + "/observations") || in.dims(x + "/observations") != Dims{w.next, W} ||
+        (Q && (!in.exists(x + "/moment_observations") ||
+               in.dims(x + "/moment_observations") != Dims{w.next, Q})))
+      throw std::runtime_error(in.path() + ": malformed ensemble state " + g);
+    const auto o = in.read_double(x + "/observations");
+    std::copy(o.begin(), o.end(), w.xobs[k].begin());
+    if (Q) {
+      const auto mm = in.read_double(x + "/moment_observations");
+      std::copy(mm.begin(), mm.end(), w.xmoments[k].begin());
+    }
+  }
   if (K1 && d.histogram.component) {
     w.comp = in.read_uint64(g + "/histogram_component");
     if (w.weighted) w.wcomp = in.read_double(g + "/histogram_component_weight");
@@ -211,20 +286,20 @@ InProgress load_in_progress(const DsmcConfig& d, const H5Reader& in, std::uint64
 
 /// One ensemble's contribution to steady_ensemble and steady_blocks. Computed from its rows alone
 /// in a fixed order, so the same ensemble always adds the same doubles to the exact sums.
-void add_steady_blocks(const DsmcConfig& d, const std::vector<double>& times, const InProgress& w,
-                       Record& record) {
+void add_steady_blocks(const DsmcConfig& d, const std::vector<double>& times, const RowSet& set,
+                       const double* obs, const double* moments, Record& record) {
   const double steady_after = d.steady_from + 1e-9 * d.observe_every;
-  const auto P = static_cast<std::uint64_t>(d.moments);
-  const std::uint64_t K = kNumScalars + P, L = steady_block_levels(d);
+  const std::uint64_t P = set.P, W = set.width;
+  const std::uint64_t K = W + P, L = steady_block_levels(d);
   std::uint64_t first = 0;
   while (first < times.size() && !(times[first] > steady_after)) ++first;
   const std::uint64_t R = times.size() - first;
-  auto& ens = record.moments("steady_ensemble");
-  auto* blocks = L ? &record.moments("steady_blocks") : nullptr;
+  auto& ens = record.moments(set.prefix + "steady_ensemble");
+  auto* blocks = L ? &record.moments(set.prefix + "steady_blocks") : nullptr;
   std::vector<double> x(R), b, avg(K);
   for (std::uint64_t k = 0; k < K; ++k) {
     for (std::uint64_t i = 0; i < R; ++i)
-      x[i] = k < kNumScalars ? w.obs[first + i][k] : w.moments[(first + i) * P + (k - kNumScalars)];
+      x[i] = k < W ? obs[(first + i) * W + k] : moments[(first + i) * P + (k - W)];
     double sum = 0.0;
     for (double v : x) sum += v;
     avg[k] = sum / static_cast<double>(R);
@@ -247,7 +322,50 @@ void add_steady_blocks(const DsmcConfig& d, const std::vector<double>& times, co
                                static_cast<double>(R));
     }
   }
-  if (cross_pairs(P)) add_cross(record.moments("steady_moment_cross").data(), &avg[kNumScalars], P);
+  if (cross_pairs(P))
+    add_cross(record.moments(set.prefix + "steady_moment_cross").data(), &avg[W], P);
+}
+
+/// Adds one ensemble's rows of a row set to its accumulators: the series, the speed moments and
+/// their cross products, and with steady_from the steady sums and the per-ensemble averages and
+/// blocks. `count_samples`: the first set counts the steady samples for all.
+void add_rows(const DsmcConfig& d, const std::vector<double>& times, const RowSet& set,
+              const double* obs, const double* moments, std::uint64_t e, bool count_samples,
+              Record& record) {
+  const double steady_after = d.steady_from + 1e-9 * d.observe_every;
+  const std::uint64_t rows = times.size(), W = set.width, P = set.P;
+  auto& series = record.moments(set.prefix + "series");
+  for (std::uint64_t m = 0; m < rows; ++m) {
+    const double* o = obs + m * W;
+    for (std::uint64_t k = 0; k < W; ++k)
+      if (!std::isfinite(o[k])) throw_not_finite(set.group.empty() && W == kNumScalars ? static_cast<int>(k) : -1, o[k], times[m], e);
+    for (std::uint64_t k = 0; k < W; ++k) series[m * W + k].add(o[k]);
+    const double* mm = moments + m * P;
+    if (P) {
+      // After the other observables, so that a run overflowing anyway fails as before.
+      for (std::uint64_t k = 0; k < P; ++k)
+        if (!(std::fabs(mm[k]) <= kMomentLimit))
+          throw std::runtime_error(
+              "dsmc.moments = " + std::to_string(P) + ": " +
+              moment_name(static_cast<int>(k) + 1) + " = " + format_real(mm[k]) +
+              " at t = " + format_real(times[m]) + " in ensemble " + std::to_string(e) +
+              " exceeds 1e150 (its square would overflow); ask for fewer moments");
+      auto& mseries = record.moments(set.prefix + "moment_series");
+      for (std::uint64_t k = 0; k < P; ++k) mseries[m * P + k].add(mm[k]);
+      if (const std::uint64_t C = cross_pairs(P))
+        add_cross(record.moments(set.prefix + "moment_cross").data() + m * C, mm, P);
+    }
+    if (d.steady && times[m] > steady_after) {
+      auto& steady = record.moments(set.prefix + "steady");
+      for (std::uint64_t k = 0; k < W; ++k) steady[k].add(o[k]);
+      if (P) {
+        auto& msteady = record.moments(set.prefix + "moment_steady");
+        for (std::uint64_t k = 0; k < P; ++k) msteady[k].add(mm[k]);
+      }
+      if (count_samples) ++record.total("steady_samples");
+    }
+  }
+  if (d.steady) add_steady_blocks(d, times, set, obs, moments, record);
 }
 
 }  // namespace
@@ -328,8 +446,14 @@ void run_dsmc(const DsmcRunConfig& config, const DriverOptions& options, Record&
       if (d.weights.swpm) {
         w.weighted = std::make_unique<WeightedEnsemble>(d, config.seed, e, &slot);
         w.whist.assign(rows * K1, 0.0);
+      } else if (d.general()) {
+        w.gas = std::make_unique<GasEnsemble>(d, config.seed, e, &slot);
       } else {
         w.ensemble = std::make_unique<DsmcEnsemble>(d, config.seed, e, &slot);
+      }
+      for (const RowSet& x : extra_row_sets(d)) {
+        w.xobs.emplace_back(rows * x.width, 0.0);
+        w.xmoments.emplace_back(rows * x.P, 0.0);
       }
       w.obs.resize(rows);
       w.moments.assign(rows * P, 0.0);
@@ -340,7 +464,9 @@ void run_dsmc(const DsmcRunConfig& config, const DriverOptions& options, Record&
       }
     }
     auto advance = [&](double s) {
-      return w.weighted ? w.weighted->advance_to(s, &pause) : w.ensemble->advance_to(s, &pause);
+      return w.weighted ? w.weighted->advance_to(s, &pause)
+             : w.gas    ? w.gas->advance_to(s, &pause)
+                        : w.ensemble->advance_to(s, &pause);
     };
     for (; w.next < rows; ++w.next) {
       const std::uint64_t m = w.next;
@@ -364,47 +490,30 @@ void run_dsmc(const DsmcRunConfig& config, const DriverOptions& options, Record&
           component_histogram_weighted(we.particles(), we.weights(), d.histogram, V,
                                        &w.wcomp[m * K1], &w.comp[m * K1]);
       } else {
-        w.obs[m] = measure(w.ensemble->particles(), {w.moments.data() + m * P, P}, d.dimension);
+        const Particles& particles = w.gas ? w.gas->particles() : w.ensemble->particles();
+        if (w.gas) {
+          std::vector<double*> xo, xm;
+          for (std::size_t k = 0; k < w.xobs.size(); ++k) {
+            xo.push_back(w.xobs[k].data() + m * (w.xobs[k].size() / rows));
+            xm.push_back(w.xmoments[k].data() + m * (w.xmoments[k].size() / rows));
+          }
+          w.obs[m] = measure_gas(d, particles, w.gas->spins(), {w.moments.data() + m * P, P}, xo, xm);
+        } else {
+          w.obs[m] = measure(particles, {w.moments.data() + m * P, P}, d.dimension);
+        }
         const Vec3 V{w.obs[m][1], w.obs[m][2], w.obs[m][3]};
-        if (K1) radial_histogram(w.ensemble->particles(), d.histogram, V, &w.hist[m * K1]);
-        if (!w.comp.empty())
-          component_histogram(w.ensemble->particles(), d.histogram, V, &w.comp[m * K1]);
+        if (K1) radial_histogram(particles, d.histogram, V, &w.hist[m * K1]);
+        if (!w.comp.empty()) component_histogram(particles, d.histogram, V, &w.comp[m * K1]);
       }
     }
     // Exact sums: the order in which ensembles arrive here does not matter.
     std::lock_guard<std::mutex> lock(mutex);
     leave.now();
-    auto& series = record.moments("series");
-    for (std::uint64_t m = 0; m < rows; ++m) {
-      for (int k = 0; k < kNumScalars; ++k)
-        if (!std::isfinite(w.obs[m][k])) throw_not_finite(k, w.obs[m][k], times[m], e);
-      for (int k = 0; k < kNumScalars; ++k) series[m * kNumScalars + k].add(w.obs[m][k]);
-      const double* moments = w.moments.data() + m * P;
-      if (P) {
-        // After the other observables, so that a run overflowing anyway fails as before.
-        for (std::uint64_t k = 0; k < P; ++k)
-          if (!(std::fabs(moments[k]) <= kMomentLimit))
-            throw std::runtime_error(
-                "dsmc.moments = " + std::to_string(P) + ": " +
-                moment_name(static_cast<int>(k) + 1) + " = " + format_real(moments[k]) +
-                " at t = " + format_real(times[m]) + " in ensemble " + std::to_string(e) +
-                " exceeds 1e150 (its square would overflow); ask for fewer moments");
-        auto& mseries = record.moments("moment_series");
-        for (std::uint64_t k = 0; k < P; ++k) mseries[m * P + k].add(moments[k]);
-        if (const std::uint64_t C = cross_pairs(P))
-          add_cross(record.moments("moment_cross").data() + m * C, moments, P);
-      }
-      if (d.steady && times[m] > steady_after) {
-        auto& steady = record.moments("steady");
-        for (int k = 0; k < kNumScalars; ++k) steady[k].add(w.obs[m][k]);
-        if (P) {
-          auto& msteady = record.moments("moment_steady");
-          for (std::uint64_t k = 0; k < P; ++k) msteady[k].add(moments[k]);
-        }
-        ++record.total("steady_samples");
-      }
-    }
-    if (d.steady) add_steady_blocks(d, times, w, record);
+    const RowSet whole{"", "", kNumScalars, P};
+    add_rows(d, times, whole, w.obs.data()->data(), w.moments.data(), e, true, record);
+    const std::vector<RowSet> extra = extra_row_sets(d);
+    for (std::size_t k = 0; k < extra.size(); ++k)
+      add_rows(d, times, extra[k], w.xobs[k].data(), w.xmoments[k].data(), e, false, record);
     // A histogram's per-ensemble steady average of f_k and, for SWPM, its weights per row.
     auto add_histogram = [&](const std::string& name, const std::vector<std::uint64_t>& hist,
                              const std::vector<double>& whist) {
@@ -437,6 +546,15 @@ void run_dsmc(const DsmcRunConfig& config, const DriverOptions& options, Record&
                               static_cast<double>(c.kicks), we.u_max(),
                               static_cast<double>(we.reductions()),
                               static_cast<double>(we.particles().size())});
+      return;
+    }
+    if (w.gas) {
+      const EventCounts& c = w.gas->counts();
+      std::vector<double> columns{static_cast<double>(c.collisions), static_cast<double>(c.fictitious),
+                                  static_cast<double>(c.kicks), w.gas->u_max()};
+      if (d.species_written)
+        for (const std::uint64_t k : w.gas->species_collisions()) columns.push_back(static_cast<double>(k));
+      record.add_ensemble(e, columns);
       return;
     }
     const EventCounts& c = w.ensemble->counts();
@@ -479,9 +597,9 @@ void write_observable(H5Writer& out, const std::string& prefix, const Observable
 /// the estimator's attributes (the largest tau_int over the components, the smallest N_eff).
 /// With steady_ci: independent the batch estimator's sigma and ci follow in a `batch` subgroup.
 void write_steady_observable(H5Writer& out, const DsmcRunConfig& config, const Record& record,
-                             const ObservableInfo& o, std::uint64_t base) {
+                             const ObservableInfo& o, std::uint64_t base, const RowSet& set) {
   const int size = observable_size(o);
-  const std::string g = "/steady/" + std::string(o.name);
+  const std::string g = "/steady" + set.group + "/" + std::string(o.name);
   Dims dims = shape_of(o, 1);
   dims.erase(dims.begin());
   auto write = [&](const std::string& group, bool batch) {
@@ -491,7 +609,7 @@ void write_steady_observable(H5Writer& out, const DsmcRunConfig& config, const R
     const char* estimator = "independent";
     for (int k = 0; k < size; ++k) {
       const SteadyStats s =
-          steady_stats(config, record, base + static_cast<std::uint64_t>(o.offset + k), batch);
+          steady_stats(config, record, set, base + static_cast<std::uint64_t>(o.offset + k), batch);
       mean.push_back(s.mean);
       ci.push_back(s.ci);
       var.push_back(s.variance);
@@ -644,16 +762,18 @@ const char* const kA3Description2 =
     "speed moments (d = 2); ci by the delta method over the ensembles; bias: the ratio "
     "estimator's leading 1/N bias (second-order delta method), not subtracted from mean";
 
-void write_sonine(H5Writer& out, const DsmcRunConfig& config, const Record& record) {
+void write_sonine(H5Writer& out, const DsmcRunConfig& config, const Record& record,
+                  const RowSet& set) {
   const DsmcConfig& d = config.dsmc;
-  const auto P = static_cast<std::uint64_t>(d.moments);
+  const std::uint64_t P = set.P;
+  const std::string& x = set.prefix;
   const std::uint64_t C = cross_pairs(P), N = record.ensembles();
   if (!C || N == 0) return;
   const std::string a2_text = d.dimension == 2 ? kA2Description2 : kA2Description;
   const std::string a3_text = d.dimension == 2 ? kA3Description2 : kA3Description;
   const std::uint64_t rows = d.observations() + 1;
-  const auto& series = record.moments("moment_series");
-  const auto& cross = record.moments("moment_cross");
+  const auto& series = record.moments(x + "moment_series");
+  const auto& cross = record.moments(x + "moment_cross");
   std::vector<double> a2(rows), a2ci(rows), a2bias(rows), a3(rows), a3ci(rows), a3bias(rows);
   for (std::uint64_t m = 0; m < rows; ++m) {
     const Sonine s = sonine(&series[m * P], &cross[m * C], P, N, false, d.dimension);
@@ -664,23 +784,24 @@ void write_sonine(H5Writer& out, const DsmcRunConfig& config, const Record& reco
     a3ci[m] = kLambdaP * std::sqrt(s.var_a3);
     a3bias[m] = s.bias_a3;
   }
-  out.write("/a2/mean", a2, {rows});
-  out.write("/a2/ci", a2ci, {rows});
-  out.write("/a2/bias", a2bias, {rows});
-  out.attr("/a2", "description", a2_text);
+  const std::string a2g = set.group + "/a2", a3g = set.group + "/a3";
+  out.write(a2g + "/mean", a2, {rows});
+  out.write(a2g + "/ci", a2ci, {rows});
+  out.write(a2g + "/bias", a2bias, {rows});
+  out.attr(a2g, "description", a2_text);
   if (P >= 3) {
-    out.write("/a3/mean", a3, {rows});
-    out.write("/a3/ci", a3ci, {rows});
-    out.write("/a3/bias", a3bias, {rows});
-    out.attr("/a3", "description", a3_text);
+    out.write(a3g + "/mean", a3, {rows});
+    out.write(a3g + "/ci", a3ci, {rows});
+    out.write(a3g + "/bias", a3bias, {rows});
+    out.attr(a3g, "description", a3_text);
   }
   if (!d.steady) return;
   // Steady: each ensemble's time averages of M2, M4, M6 are one independent sample.
-  const Sonine s = sonine(&record.moments("steady_ensemble")[kNumScalars],
-                          record.moments("steady_moment_cross").data(), P, N, true, d.dimension);
+  const Sonine s = sonine(&record.moments(x + "steady_ensemble")[set.width],
+                          record.moments(x + "steady_moment_cross").data(), P, N, true, d.dimension);
   const double factor = confidence_factor(static_cast<double>(N) - 1);
   for (int which = 2; which <= (P >= 3 ? 3 : 2); ++which) {
-    const std::string g = "/steady/a" + std::to_string(which);
+    const std::string g = "/steady" + set.group + "/a" + std::to_string(which);
     const double sigma = N >= 2 ? std::sqrt(which == 2 ? s.var_a2 : s.var_a3) : NAN;
     out.write(g + "/mean", std::vector<double>{which == 2 ? s.a2 : s.a3}, {});
     out.write(g + "/sigma", std::vector<double>{sigma}, {});
@@ -697,12 +818,19 @@ void write_sonine(H5Writer& out, const DsmcRunConfig& config, const Record& reco
 
 SteadyStats steady_stats(const DsmcRunConfig& config, const Record& record, std::uint64_t k,
                          bool batch) {
+  const RowSet whole{"", "", kNumScalars, static_cast<std::uint64_t>(config.dsmc.moments)};
+  return steady_stats(config, record, whole, k, batch);
+}
+
+SteadyStats steady_stats(const DsmcRunConfig& config, const Record& record, const RowSet& set,
+                         std::uint64_t k, bool batch) {
   const DsmcConfig& d = config.dsmc;
-  const auto P = static_cast<std::uint64_t>(d.moments);
+  const std::uint64_t P = set.P, W = set.width;
+  const std::string& x = set.prefix;
   const std::uint64_t S = record.total("steady_samples"), N = record.ensembles();
   SteadyStats r;
-  const MeanCi all = k < kNumScalars ? record.moments("steady")[k].stats(S)
-                                     : record.moments("moment_steady")[k - kNumScalars].stats(S);
+  const MeanCi all = k < W ? record.moments(x + "steady")[k].stats(S)
+                           : record.moments(x + "moment_steady")[k - W].stats(S);
   r.mean = all.mean;
   r.variance = all.variance;
   r.effective_samples = static_cast<double>(S);
@@ -712,13 +840,13 @@ SteadyStats steady_stats(const DsmcRunConfig& config, const Record& record, std:
     r.ci = all.ci;
     return r;
   }
-  const std::uint64_t K = kNumScalars + P, L = steady_block_levels(d), R = steady_rows(d);
+  const std::uint64_t K = W + P, L = steady_block_levels(d), R = steady_rows(d);
   const double Nd = static_cast<double>(N);
   double var_mean = NAN;
   if (N >= kSteadyMinEnsembles || L == 0) {
     // Independent ensembles by construction: the spread of their time averages is honest.
     r.estimator = "ensembles";
-    const Moments2& e = record.moments("steady_ensemble")[k];
+    const Moments2& e = record.moments(x + "steady_ensemble")[k];
     if (N >= 2) {
       const double m = e.sum.value() / Nd;
       const double s2 = std::max(0.0, (e.sum_sq.value() - Nd * m * m) / (Nd - 1));
@@ -731,7 +859,7 @@ SteadyStats steady_stats(const DsmcRunConfig& config, const Record& record, std:
     // B^3 > 2 R (sigma_l^2 / sigma_0^2)^2, B = 2^l rows (Lee, Needs & Drummond 2011), else the
     // longest blocks.
     r.estimator = "blocking";
-    const auto& blocks = record.moments("steady_blocks");
+    const auto& blocks = record.moments(x + "steady_blocks");
     const double v0 = blocks[k].sum.value() / (Nd * Nd);
     std::uint64_t chosen = L - 1;
     for (std::uint64_t l = 0; l < L; ++l) {
@@ -816,10 +944,48 @@ void write_histogram(H5Writer& out, const DsmcRunConfig& config, const Record& r
 
 }  // namespace
 
+namespace {
+const ObservableInfo kRotational{"temperature_rotational", 0, 0,
+                                 "T_rot = sum_j I_j |omega_j|^2 / (n d_rot), d_rot = 3 (d = 3) or 1 "
+                                 "(d = 2): the rotational temperature of rough particles"};
+
+/// The datasets of a row set beyond the first: a species' group /species/<name> (and under
+/// /steady), or /temperature_rotational.
+void present_row_set(H5Writer& out, const DsmcRunConfig& config, const Record& record,
+                     const RowSet& set) {
+  const DsmcConfig& d = config.dsmc;
+  const std::uint64_t rows = d.observations() + 1, N = record.ensembles();
+  if (set.width == 1) {  // T_rot
+    write_observable(out, "", kRotational, record.moments(set.prefix + "series"), 1, rows, N, false);
+    if (d.steady) write_steady_observable(out, config, record, kRotational, 0, set);
+    return;
+  }
+  write_moments(out, set.group, record.moments(set.prefix + "series"), rows, N, false);
+  if (set.P)
+    write_speed_moments(out, set.group, record.moments(set.prefix + "moment_series"), set.P, rows,
+                        N, false);
+  if (d.steady) {
+    for (const auto& o : kObservables) write_steady_observable(out, config, record, o, 0, set);
+    for (std::uint64_t k = 0; k < set.P; ++k)
+      write_steady_observable(out, config, record, SpeedMoment(k).info(), kNumScalars, set);
+  }
+  write_sonine(out, config, record, set);
+  for (const auto& sp : d.species)
+    if (set.group == "/species/" + sp.name) {
+      out.attr(set.group, "mass", sp.mass);
+      out.attr(set.group, "diameter", sp.diameter);
+      out.attr(set.group, "fraction", static_cast<double>(sp.count) / static_cast<double>(d.particles));
+      out.attr(set.group, "particles", sp.count);
+      if (d.roughness.on) out.attr(set.group, "inertia", sp.inertia);
+    }
+}
+}  // namespace
+
 void present_dsmc(H5Writer& out, const DsmcRunConfig& config, const Record& record) {
   const DsmcConfig& d = config.dsmc;
   const std::vector<double> times = dsmc_times(d);
   const std::uint64_t rows = times.size(), N = record.ensembles();
+  const RowSet whole{"", "", kNumScalars, static_cast<std::uint64_t>(d.moments)};
   out.write("/time", times, {rows});
   write_moments(out, "", record.moments("series"), rows, N, false);
   const auto P = static_cast<std::uint64_t>(d.moments);
@@ -849,9 +1015,9 @@ void present_dsmc(H5Writer& out, const DsmcRunConfig& config, const Record& reco
   }
   if (d.steady) {
     const std::uint64_t samples = record.total("steady_samples");
-    for (const auto& o : kObservables) write_steady_observable(out, config, record, o, 0);
+    for (const auto& o : kObservables) write_steady_observable(out, config, record, o, 0, whole);
     for (std::uint64_t k = 0; k < P; ++k)
-      write_steady_observable(out, config, record, SpeedMoment(k).info(), kNumScalars);
+      write_steady_observable(out, config, record, SpeedMoment(k).info(), kNumScalars, whole);
     out.attr("/steady", "estimator",
              std::string(d.steady_ci_independent ? "independent"
                          : record.ensembles() >= kSteadyMinEnsembles || !steady_block_levels(d)
@@ -859,7 +1025,8 @@ void present_dsmc(H5Writer& out, const DsmcRunConfig& config, const Record& reco
     out.attr("/steady", "samples", samples);
     out.attr("/steady", "from", d.steady_from);
   }
-  write_sonine(out, config, record);
+  write_sonine(out, config, record, whole);
+  for (const RowSet& set : extra_row_sets(d)) present_row_set(out, config, record, set);
 }
 
 }  // namespace granboltz

@@ -1,6 +1,9 @@
 #pragma once
 // A DSMC run: N independent ensembles observed at t_m = m * observe_every, combined into means
 // and confidence intervals (GRW05 §5.1), optionally with steady-state time averages (RW05 §4.2).
+#include <string>
+#include <vector>
+
 #include "granboltz/dsmc/config.hpp"
 #include "granboltz/exec/ensemble_pool.hpp"
 #include "granboltz/exec/run_frame.hpp"
@@ -26,6 +29,18 @@ void present_dsmc(H5Writer& out, const DsmcRunConfig& config, const Record& reco
 /// The observation times t_m, m = 0..M.
 std::vector<double> dsmc_times(const DsmcConfig& d);
 
+/// A set of observation rows with accumulators of its own: the rows of the whole gas (prefix "",
+/// the layout of every one-species run), and for the general gas each species' rows and the
+/// rotational temperature.
+struct RowSet {
+  std::string prefix;    ///< of the record's accumulators ("series" -> prefix + "series")
+  std::string group;     ///< of the output datasets: "" at the top, "/species/<name>"
+  std::uint64_t width;   ///< scalars per row: kNumScalars, or 1 (T_rot)
+  std::uint64_t P;       ///< speed moments per row
+};
+/// The row sets beyond the first: one per species of dsmc.species, then T_rot (dsmc.roughness).
+std::vector<RowSet> extra_row_sets(const DsmcConfig& d);
+
 /// Ensembles from which the steady-state interval comes from their spread (dsmc.steady_ci:
 /// batch); with fewer, from blocking within the ensembles.
 inline constexpr std::uint64_t kSteadyMinEnsembles = 10;
@@ -46,6 +61,9 @@ struct SteadyStats {
 /// `batch`: the batch estimator even where the config asks for steady_ci: independent.
 SteadyStats steady_stats(const DsmcRunConfig& config, const Record& record, std::uint64_t k,
                          bool batch = false);
+/// The same for scalar k of a row set (k < set.width a row scalar, then its speed moments).
+SteadyStats steady_stats(const DsmcRunConfig& config, const Record& record, const RowSet& set,
+                         std::uint64_t k, bool batch = false);
 
 /// The observation rows t_m > steady_from in each ensemble.
 std::uint64_t steady_rows(const DsmcConfig& d);

@@ -76,6 +76,8 @@ enum class Consumer : std::uint64_t {
   kSplit = 6,     ///< SWPM importance splitting: roulette draws (dsmc.weights.split)
   kCandidates = 7,  ///< pairwise majorant: heavy-partner candidates (several lanes)
   kPartners = 8,    ///< pairwise majorant: the other partners and acceptance bits (several lanes)
+  kInitialSpin = 11,  ///< rough particles: initial angular velocities (their own stream, so that
+                      ///< a rough run starts with the smooth run's velocities)
   kIntruder = 16, ///< TV06 intruder events
   kBath = 17,     ///< TV06 DSMC bath
   kNeedle = 18,   ///< TV06 needle events

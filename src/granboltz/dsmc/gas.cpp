@@ -1,0 +1,458 @@
+#include "granboltz/dsmc/gas.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "granboltz/core/hot.hpp"
+#include "granboltz/dsmc/particles_io.hpp"
+#include "granboltz/physics/geometry.hpp"
+#include "granboltz/physics/restitution/laws.hpp"
+#include "granboltz/random/samplers.hpp"
+#include "granboltz/record/engine_io.hpp"
+
+namespace granboltz {
+
+namespace {
+constexpr std::uint64_t kProgressMask = (1u << 20) - 1;
+constexpr std::uint64_t kPauseMask = (1u << 14) - 1;
+// Gaussian thermostat: fold the scale in once the stored energy has fallen by 2^8 (as the
+// one-species engine does, for the same reason: the running energy keeps its digits).
+constexpr double kRefold = 0x1p8;
+constexpr int kMaxwell = 0, kHardSpheres = 1, kHalf = 2, kGeneral = 3;
+
+template <class E>
+Vec3 normals(int d, E& eng) {
+  if (d == 2) {
+    const double a = normal(eng);
+    const double b = normal(eng);
+    return {a, b, 0.0};
+  }
+  return normal3(eng);
+}
+
+// d_rot: the rotational degrees of freedom of a rough particle.
+int rotational_dof(int d) { return d == 2 ? 1 : 3; }
+}  // namespace
+
+void GasEnsemble::init_tables() {
+  const std::size_t K = c_.species.size();
+  const double n = static_cast<double>(c_.particles);
+  for (const auto& sp : c_.species) {
+    mass_.push_back(sp.mass);
+    radius_.push_back(0.5 * sp.diameter);
+    inertia_.push_back(sp.moment_of_inertia());
+  }
+  const double lambda = c_.kernel.lambda;
+  lambda_case_ = lambda == 0.0 ? kMaxwell : lambda == 1.0 ? kHardSpheres : lambda == 0.5 ? kHalf
+                                                                                          : kGeneral;
+  for (std::uint32_t a = 0; a < K; ++a)
+    for (std::uint32_t b = a; b < K; ++b) {
+      const auto Na = static_cast<double>(c_.species[a].count);
+      const auto Nb = static_cast<double>(c_.species[b].count);
+      PairClass pc{};
+      pc.a = a;
+      pc.b = b;
+      pc.pairs = a == b ? 0.5 * Na * (Na - 1.0) : Na * Nb;
+      const double sigma = 0.5 * (c_.species[a].diameter + c_.species[b].diameter);
+      const double cross = c_.dimension == 2 ? sigma : sigma * sigma;  // sigma_ab^{d-1}
+      pc.rate_unit = c_.kernel.gamma / n * c_.kernel.C * cross * c_.kernel.area * pc.pairs;
+      pc.alpha = c_.pair_alpha(a, b);
+      pc.terms = pair_terms(mass_[a], mass_[b], c_.species[a].diameter, c_.species[b].diameter,
+                            rough_ ? c_.roughness.beta : -1.0, rough_ ? c_.species[a].inertia : 0.0,
+                            rough_ ? c_.species[b].inertia : 0.0);
+      classes_.push_back(pc);
+    }
+  r_max_.assign(K, 0.0);
+  cum_.assign(classes_.size(), 0.0);
+  species_collisions_.assign(K, 0);
+}
+
+GasEnsemble::GasEnsemble(const DsmcConfig& config, std::uint64_t seed, std::uint64_t ensemble,
+                         ProgressSlot* progress)
+    : c_(config),
+      p_(config.particles),
+      heated_(config.thermostat == Thermostat::kWhiteNoise && config.beta > 0.0),
+      gaussian_(config.thermostat == Thermostat::kGaussian),
+      rough_(config.roughness.on),
+      events_(make_stream(seed, ensemble, Consumer::kEvents)),
+      pairs_(make_stream(seed, ensemble, Consumer::kPairs)),
+      sweep_(make_stream(seed, ensemble, Consumer::kSweep)),
+      progress_(progress) {
+  init_tables();
+  // Every species Maxwellian at T0: velocity variance T0/m_a per component.
+  Engine init = make_stream(seed, ensemble, Consumer::kInitial);
+  Vec3 momentum;
+  double total_mass = 0.0;
+  for (std::size_t a = 0; a < c_.species.size(); ++a) {
+    const double sd = std::sqrt(c_.initial_temperature / mass_[a]);
+    const auto& sp = c_.species[a];
+    for (std::uint64_t i = sp.offset; i < sp.offset + sp.count; ++i) {
+      p_[i].v = sd * normals(c_.dimension, init);
+      p_[i].t = 0.0;
+      momentum += mass_[a] * p_[i].v;
+      total_mass += mass_[a];
+    }
+  }
+  v0_ = (1.0 / total_mass) * momentum;
+  if (rough_) {
+    w_.resize(p_.size());
+    Engine spin = make_stream(seed, ensemble, Consumer::kInitialSpin);
+    for (std::size_t a = 0; a < c_.species.size(); ++a) {
+      const double sd = std::sqrt(c_.initial_rotational_temperature / inertia_[a]);
+      const auto& sp = c_.species[a];
+      for (std::uint64_t i = sp.offset; i < sp.offset + sp.count; ++i)
+        w_[i] = c_.dimension == 2 ? Vec3{0.0, 0.0, sd * normal(spin)} : sd * normal3(spin);
+    }
+  }
+  if (gaussian_) {
+    // The thermostat keeps the total energy, translational and rotational, at its expected
+    // initial value: n (d T0 + d_rot T_rot(0)).
+    const double n = static_cast<double>(p_.size());
+    target_ = n * (c_.dimension * c_.initial_temperature +
+                   (rough_ ? rotational_dof(c_.dimension) * c_.initial_rotational_temperature : 0.0));
+    fold();
+  }
+  adapt_all();
+}
+
+double GasEnsemble::energy_of(std::uint32_t a, std::size_t i) const {
+  double e = mass_[a] * norm2(p_[i].v - v0_);
+  if (rough_) e += inertia_[a] * norm2(w_[i]);
+  return e;
+}
+
+void GasEnsemble::set_rates() {
+  double sum = 0.0;
+  for (std::size_t k = 0; k < classes_.size(); ++k) {
+    const PairClass& pc = classes_[k];
+    const double U = r_max_[pc.a] + r_max_[pc.b];
+    double power = 1.0;
+    switch (lambda_case_) {
+      case kMaxwell: break;
+      case kHardSpheres: power = U; break;
+      case kHalf: power = std::sqrt(U); break;
+      default: power = std::pow(U, c_.kernel.lambda);
+    }
+    sum += pc.rate_unit * power;
+    cum_[k] = sum;
+  }
+  rate_ = sum;
+}
+
+GRANBOLTZ_HOT void GasEnsemble::adapt(std::uint32_t a, const Vec3& v) {
+  const double r2 = norm2(v - v0_);
+  if (r2 > r_max_[a] * r_max_[a]) {
+    r_max_[a] = std::sqrt(r2);
+    set_rates();
+  }
+}
+
+void GasEnsemble::adapt_all() {
+  // The exact maxima of the current state: a valid bound from now on (it may also shrink, which
+  // keeps a cooling gas efficient).
+  for (std::size_t a = 0; a < c_.species.size(); ++a) {
+    const auto& sp = c_.species[a];
+    double r2 = 0.0;
+    for (std::uint64_t i = sp.offset; i < sp.offset + sp.count; ++i)
+      r2 = std::max(r2, norm2(p_[i].v - v0_));
+    r_max_[a] = std::sqrt(r2);
+  }
+  set_rates();
+}
+
+void GasEnsemble::fold() {
+  // True values V0 + f (w - M), f W, with M the exact centre of mass of the stored velocities and
+  // f from the exact energy about it: the total energy is the target to round-off, and the
+  // round-off momentum of the stored velocities is not amplified.
+  Vec3 momentum;
+  double total_mass = 0.0;
+  for (std::size_t a = 0; a < c_.species.size(); ++a) {
+    const auto& sp = c_.species[a];
+    for (std::uint64_t i = sp.offset; i < sp.offset + sp.count; ++i) {
+      momentum += mass_[a] * p_[i].v;
+      total_mass += mass_[a];
+    }
+  }
+  const Vec3 M = (1.0 / total_mass) * momentum;
+  double k = 0.0;
+  for (std::size_t a = 0; a < c_.species.size(); ++a) {
+    const auto& sp = c_.species[a];
+    for (std::uint64_t i = sp.offset; i < sp.offset + sp.count; ++i) {
+      k += mass_[a] * norm2(p_[i].v - M);
+      if (rough_) k += inertia_[a] * norm2(w_[i]);
+    }
+  }
+  const double f = std::sqrt(target_ / k);
+  for (auto& q : p_) q.v = v0_ + f * (q.v - M);
+  for (auto& w : w_) w = f * w;
+  double e = 0.0;
+  for (std::size_t a = 0; a < c_.species.size(); ++a) {
+    const auto& sp = c_.species[a];
+    for (std::uint64_t i = sp.offset; i < sp.offset + sp.count; ++i)
+      e += energy_of(static_cast<std::uint32_t>(a), i);
+  }
+  energy_ = e;
+  s2_ = target_ / energy_;
+  // The bounds were in the old stored units.
+  for (double& r : r_max_) r *= f;
+  set_rates();
+}
+
+double GasEnsemble::u_max() const {
+  double u = 0.0;
+  for (const auto& pc : classes_) u = std::max(u, r_max_[pc.a] + r_max_[pc.b]);
+  return u * std::sqrt(s2_);
+}
+
+template <class G>
+bool GasEnsemble::events(double s_end, const std::atomic<bool>* pause, bool kicks) {
+  const bool constant_law = is_constant(c_.restitution);
+  const RestitutionLaw law = c_.restitution;
+  const double beta = c_.beta, lambda = c_.kernel.lambda;
+  const int lc = lambda_case_;
+  Engine ev = events_, pairs = pairs_;
+  EventCounts counts = counts_;
+  std::uint64_t events = 0;
+  bool reached = true;
+  // s^lambda: the true rate over the stored one (Gaussian thermostat; else 1).
+  auto rate_scale = [&] {
+    if (!gaussian_ || lc == kMaxwell) return 1.0;
+    if (lc == kHardSpheres) return std::sqrt(s2_);
+    return std::pow(s2_, 0.5 * lambda);
+  };
+  double scale = rate_scale();
+  for (;;) {
+    if (pause && (events & kPauseMask) == 0 && pause->load(std::memory_order_relaxed)) {
+      reached = false;
+      break;
+    }
+    const double tau = exponential(ev) / (rate_ * scale);
+    if (t_ + tau >= s_end) break;
+    t_ += tau;
+    // The class against the cumulative rates, then the partners uniformly in their blocks.
+    const double x = uniform01(ev) * rate_;
+    std::size_t k = 0;
+    while (k + 1 < classes_.size() && !(x < cum_[k])) ++k;
+    const PairClass& pc = classes_[k];
+    const SpeciesSpec& sa = c_.species[pc.a];
+    const SpeciesSpec& sb = c_.species[pc.b];
+    std::uint64_t i, j;
+    if (pc.a == pc.b) {
+      const std::uint64_t i0 = uniform_index(pairs, sa.count);
+      const std::uint64_t j0 = uniform_index(pairs, sa.count - 1);
+      i = sa.offset + i0;
+      j = sa.offset + j0 + (j0 >= i0);
+    } else {
+      i = sa.offset + uniform_index(pairs, sa.count);
+      j = sb.offset + uniform_index(pairs, sb.count);
+    }
+    Particle& A = p_[i];
+    Particle& B = p_[j];
+    if (kicks) {  // white noise on the translational velocities, up to the event time
+      A.v += std::sqrt(2.0 * beta * (t_ - A.t)) * normals(c_.dimension, ev);
+      B.v += std::sqrt(2.0 * beta * (t_ - B.t)) * normals(c_.dimension, ev);
+      A.t = B.t = t_;
+      counts.kicks += 2;
+      adapt(pc.a, A.v);
+      adapt(pc.b, B.v);
+    }
+    bool real = true;
+    if (lc != kMaxwell) {
+      const double U = r_max_[pc.a] + r_max_[pc.b];
+      const double u2 = norm2(A.v - B.v);
+      const double r = uniform01(ev);
+      if (lc == kHardSpheres) real = r * r * (U * U) < u2;
+      else if (lc == kHalf) real = (r * r) * (r * r) * (U * U) < u2;
+      else real = r < std::pow(u2 / (U * U), 0.5 * lambda);
+    }
+    if (!real) {
+      ++counts.fictitious;
+    } else {
+      const Vec3 u = A.v - B.v;
+      const Vec3 e = G::direction(u, ev);
+      Vec3 n;
+      if (impact_normal(u, e, n)) {
+        double eps = pc.alpha;
+        if (!constant_law) {
+          const double gn = dot(u, n);
+          eps = std::visit(
+              [&](const auto& l) {
+                using Law = std::decay_t<decltype(l)>;
+                return l.eps_of_g2(Law::kScaleFree ? gn * gn : gn * gn * s2_);
+              },
+              law);
+        }
+        double before = 0.0;
+        if (gaussian_) before = energy_of(pc.a, i) + energy_of(pc.b, j);
+        if (rough_) collide_rough(A.v, w_[i], B.v, w_[j], n, eps, pc.terms);
+        else collide_smooth(A.v, B.v, n, eps, pc.terms);
+        if (gaussian_) {
+          energy_ += energy_of(pc.a, i) + energy_of(pc.b, j) - before;
+          s2_ = target_ / energy_;
+        }
+      }
+      ++counts.collisions;
+      ++species_collisions_[pc.a];
+      ++species_collisions_[pc.b];
+      if (lc != kMaxwell) {
+        adapt(pc.a, A.v);
+        adapt(pc.b, B.v);
+      }
+      if (gaussian_) {
+        if (s2_ > kRefold) fold();
+        scale = rate_scale();
+      }
+    }
+    if ((++events & kProgressMask) == 0) report(t_);
+  }
+  events_ = ev;
+  pairs_ = pairs;
+  counts_ = counts;
+  return reached;
+}
+
+void GasEnsemble::kick_all_to(double s) {
+  if (heated_) {
+    for (auto& q : p_) {
+      q.v += std::sqrt(2.0 * c_.beta * (s - q.t)) * normals(c_.dimension, sweep_);
+      q.t = s;
+    }
+    counts_.kicks += p_.size();
+  } else {
+    for (auto& q : p_) q.t = s;
+  }
+}
+
+void GasEnsemble::kick_all_by(double h) {
+  if (!heated_) return;
+  const double sd = std::sqrt(2.0 * c_.beta * h);
+  for (auto& q : p_) q.v += sd * normals(c_.dimension, sweep_);
+  counts_.kicks += p_.size();
+  adapt_all();
+}
+
+bool GasEnsemble::advance_to(double s, const std::atomic<bool>* pause) {
+  auto run = [&](double until, const std::atomic<bool>* p, bool kicks) {
+    if (c_.dimension == 3) return events<Sphere3>(until, p, kicks);
+    if (c_.geometry == Geometry::kImpact) return events<CircleImpact>(until, p, kicks);
+    return events<CircleUniform>(until, p, kicks);
+  };
+  if (c_.scheme == Scheme::kNoSplit) {
+    if (!run(s, pause, heated_)) return false;
+    kick_all_to(s);
+    t_ = s;
+  } else {
+    const double dt = c_.time_step();
+    auto k = static_cast<std::uint64_t>(std::llround(t_ / dt));
+    const auto k_end = static_cast<std::uint64_t>(std::llround(s / dt));
+    auto collide_for = [&](double start, double h) {
+      t_ = start;
+      run(start + h, nullptr, false);
+    };
+    for (; k < k_end; ++k) {
+      if (pause && pause->load(std::memory_order_relaxed)) return false;
+      const double t0 = static_cast<double>(k) * dt;
+      if (c_.scheme == Scheme::kEuler) {
+        collide_for(t0, dt);
+        kick_all_by(dt);
+      } else {
+        collide_for(t0, 0.5 * dt);
+        kick_all_by(dt);
+        collide_for(t0 + 0.5 * dt, 0.5 * dt);
+      }
+      t_ = static_cast<double>(k + 1) * dt;
+      report(t_);
+    }
+    t_ = s;
+  }
+  if (gaussian_) fold();
+  adapt_all();
+  report(t_);
+  return true;
+}
+
+// ---- Checkpoints ----
+
+void GasEnsemble::save(H5Writer& out, const std::string& g) const {
+  write_particles(out, g + "/particles", p_);
+  if (rough_) {
+    std::vector<double> rows;
+    for (const Vec3& w : w_) rows.insert(rows.end(), {w.x, w.y, w.z});
+    out.write(g + "/spins", rows, {w_.size(), 3});
+  }
+  out.write(g + "/scalars", std::vector<double>{t_, v0_.x, v0_.y, v0_.z, energy_, target_}, {6});
+  out.write(g + "/bounds", r_max_, {r_max_.size()});
+  write_engine(out, g + "/events_stream", events_);
+  write_engine(out, g + "/pairs_stream", pairs_);
+  write_engine(out, g + "/sweep_stream", sweep_);
+  out.write(g + "/counters",
+            std::vector<std::uint64_t>{counts_.collisions, counts_.fictitious, counts_.kicks}, {3});
+  out.write(g + "/species_collisions", species_collisions_, {species_collisions_.size()});
+}
+
+GasEnsemble::GasEnsemble(const DsmcConfig& config, const H5Reader& in, const std::string& g,
+                         ProgressSlot* progress)
+    : c_(config),
+      p_(config.particles),
+      heated_(config.thermostat == Thermostat::kWhiteNoise && config.beta > 0.0),
+      gaussian_(config.thermostat == Thermostat::kGaussian),
+      rough_(config.roughness.on),
+      events_(read_engine(in, g + "/events_stream")),
+      pairs_(read_engine(in, g + "/pairs_stream")),
+      sweep_(read_engine(in, g + "/sweep_stream")),
+      progress_(progress) {
+  init_tables();
+  auto refuse = [&](const std::string& what) {
+    throw std::runtime_error(in.path() + ": malformed ensemble state " + g + ": " + what);
+  };
+  const std::size_t n = p_.size(), K = c_.species.size();
+  if (!read_particles(in, g + "/particles", p_) || p_.size() != n) refuse("particles");
+  const auto scalars = in.read_double(g + "/scalars");
+  const auto bounds = in.read_double(g + "/bounds");
+  const auto counters = in.read_uint64(g + "/counters");
+  const auto sc = in.read_uint64(g + "/species_collisions");
+  if (scalars.size() != 6 || bounds.size() != K || counters.size() != 3 || sc.size() != K)
+    refuse("a dataset of the wrong size");
+  for (double x : scalars)
+    if (!std::isfinite(x)) refuse("a non-finite scalar");
+  if (!(scalars[0] >= 0.0 && scalars[0] <= c_.t_end)) refuse("time outside [0, t_end]");
+  for (double r : bounds)
+    if (!(r >= 0.0 && std::isfinite(r))) refuse("a negative or non-finite bound");
+  for (const Particle& q : p_)
+    if (!(q.t >= 0.0 && q.t <= scalars[0])) refuse("a particle's time outside [0, t]");
+  if (c_.dimension == 2)
+    for (const Particle& q : p_)
+      if (q.v.z != 0.0) refuse("a particle with v_z != 0 in dimension 2");
+  if (rough_) {
+    const auto rows = in.read_double(g + "/spins");
+    if (rows.size() != 3 * n) refuse("spins");
+    w_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      w_[i] = {rows[3 * i], rows[3 * i + 1], rows[3 * i + 2]};
+      if (!std::isfinite(norm2(w_[i]))) refuse("a non-finite spin");
+      if (c_.dimension == 2 && (w_[i].x != 0.0 || w_[i].y != 0.0))
+        refuse("a spin outside the z axis in dimension 2");
+    }
+  }
+  t_ = scalars[0];
+  v0_ = {scalars[1], scalars[2], scalars[3]};
+  energy_ = scalars[4];
+  target_ = scalars[5];
+  if (gaussian_) {
+    if (!(energy_ > 0 && target_ > 0)) refuse("the thermostat's energies not positive");
+    s2_ = target_ / energy_;
+  }
+  r_max_ = bounds;
+  // A bound below a particle's speed would make a probability exceed 1: refuse it.
+  for (std::size_t a = 0; a < K; ++a) {
+    const auto& sp = c_.species[a];
+    for (std::uint64_t i = sp.offset; i < sp.offset + sp.count; ++i)
+      if (norm(p_[i].v - v0_) > r_max_[a] * (1.0 + 1e-12)) refuse("a velocity beyond its bound");
+  }
+  counts_ = {counters[0], counters[1], counters[2]};
+  species_collisions_ = sc;
+  set_rates();
+}
+
+}  // namespace granboltz
