@@ -171,3 +171,29 @@ def test_the_item_scripts_write_table_figure_and_summary(base_run, tmp_path, run
             ["thermostat", "alpha", "beta", "theta", "theta_ci", "theta_maxwellian", "difference"])
     assert header[:len(want)] == want and len(open(out["csv"]).readlines()) == 3
     assert '"short": "compared with an approximation' in open(out["summary"]).read()
+
+
+def test_an_output_of_the_simulator_with_species_and_roughness_reads(tmp_path):
+    """The simulator's own mixture of rough spheres: every dataset the layout requires is there,
+    the attributes match the config, and the mixture's T is sum x_i T_i."""
+    config = {"model": "dsmc", "seed": 3, "ensembles": 3,
+              "dsmc": {"particles": 50, "alpha": 0.8, "beta": 0.0, "kernel": {"lambda": 1, "C": 0.0795774715459477},
+                       "species": [{"name": "heavy", "fraction": 0.3, "mass": 4.0, "diameter": 1.0},
+                                   {"name": "light", "fraction": 0.7, "mass": 1.0, "diameter": 1.5}],
+                       "roughness": {"beta": 0.5, "inertia": 0.4}, "majorant_update": "strict",
+                       "thermostat": "gaussian", "moments": 3, "t_end": 1.0, "observe_every": 0.25,
+                       "steady_from": 0.2}}
+    (tmp_path / "mix.yaml").write_text(yaml.safe_dump(config))
+    run_binary("run", tmp_path / "mix.yaml", "-q", "--threads", "1", "-o", tmp_path / "mix.h5")
+    run = read_run(tmp_path / "mix.h5")
+    heavy, light = run.species["heavy"], run.species["light"]
+    assert (heavy.particles, light.particles, heavy.mass, light.diameter) == (15, 35, 4.0, 1.5)
+    assert heavy.fraction == pytest.approx(0.3)
+    x = np.array([heavy.fraction, light.fraction])
+    np.testing.assert_allclose(x @ np.array([heavy.temperature.mean, light.temperature.mean]), run.temperature.mean,
+                               rtol=1e-10)
+    assert heavy.a2.bias.shape == run.time.shape and "a3" in light.observables
+    assert np.isfinite(float(light.steady["temperature"].sigma)) and "a2" in heavy.steady
+    assert run.temperature_rotational.mean.shape == run.time.shape
+    assert run.steady["temperature_rotational"].estimator == run.steady["temperature"].estimator
+    assert (heavy.events["collisions"] > 0).all()

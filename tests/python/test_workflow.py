@@ -212,6 +212,7 @@ def test_mixture_and_rough_run_configs(tmp_path):
         "gaussian", a, {"lambda": 1, "C": config["beyond"]["C"]}, "batch")
     assert (d["t_end"], d["observe_every"], d["steady_from"]) == (mix["t_end"], mix["observe_every"], mix["steady_from"])
     assert "roughness" not in d and "species" not in run["rough"]["dsmc"]
+    assert all(r["dsmc"]["majorant_update"] == "strict" and "majorant" not in r["dsmc"] for r in run.values())
     assert run["rough"]["dsmc"]["roughness"] == {"beta": float(b), "inertia": rough["kappa"]}
     assert run["rough"]["dsmc"]["beta"] == 0.0 and run["rough_wn"]["dsmc"]["beta"] == rough["beta"]
     assert run["rough_wn"]["dsmc"]["thermostat"] == "white_noise"

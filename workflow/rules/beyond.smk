@@ -113,7 +113,8 @@ def beyond_disk_config(wildcards):
 def beyond_mixed_config(wildcards):
     """Run config of a mixture or rough-sphere run, results/beyond/{thermostat}/mixture-m{m1/m2}/...
     or .../rough-beta{beta}/...: steady hard spheres (lambda 1, C of beyond), constant alpha, with
-    the timing of beyond.mixture or beyond.rough, steady averages with the batch interval.  The
+    the timing of beyond.mixture or beyond.rough, steady averages with the batch interval, the
+    majorant updated strictly (what the general-gas engine takes).  The
     mixture: species heavy (mass m1/m2, fraction x1) and light (mass 1), both of diameter 1; rough
     spheres: dsmc.roughness {beta, inertia: kappa}, spins started at the translational temperature."""
     law, value = wildcards.restitution.split("=")
@@ -132,8 +133,9 @@ def beyond_mixed_config(wildcards):
                             {"name": "light", "fraction": round(1 - x1, 12), "mass": 1.0, "diameter": 1.0}]
     else:
         extra["roughness"] = {"beta": float(wildcards.kernel[len("rough-beta"):]), "inertia": item["kappa"]}
-    if wildcards.thermostat == "gaussian":
-        extra["majorant"] = "pairwise"  # as for hard spheres: exact without kicks
+    # the general-gas engine: one exact bound per pair of species (the global majorant, its default),
+    # updated strictly (it refuses the papers' truncated kernel and the pairwise majorant)
+    physics["majorant_update"] = "strict"
     extra.update(steady_from=item["steady_from"], steady_ci="batch")
     label = f"beyond/{wildcards.thermostat}/{wildcards.kernel}/{wildcards.restitution}/n={wildcards.n}"
     return dsmc_run_config(label, physics, wildcards.N, wildcards.n, item["t_end"], item["observe_every"], **extra)
