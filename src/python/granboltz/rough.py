@@ -17,7 +17,11 @@ The Gaussian thermostat rescales velocities and spins by one factor (the total e
 its steady theta is the HCS one.  White noise heats T_tr only; the rotational equation alone is
 then steady at theta = B/C = kappa (1 + beta)/(1 + 2 kappa - beta), independent of alpha.
 Known quality (beyond.md §5): in the HCS at alpha = 0.8-0.9 simulations put theta 4-5 % below
-this formula; under white noise within 1 %.
+this formula; under white noise within 1 %.  This project's runs (rule beyond_rough, quick
+profile) agree with the first for beta = 0 (-4.6 % at alpha = 0.9) but find the gap shrinking
+with beta (-1.8 % at 0.5, +0.1 % at 0.9) and growing at stronger dissipation (-8 % at
+alpha = 0.7 and 0.5, beta = 0); under white noise they find -2.5 % (beta = 0), -1.4 % (0.5) and
+-0.3 % (0.9): beyond 1 % for beta <= 0.5, a disagreement with beyond.md's account.
 """
 
 import numpy as np

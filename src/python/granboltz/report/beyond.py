@@ -234,7 +234,8 @@ def compare_beyond_rough(name, ours, published=None, **_):
     note = ("The Maxwellian two-temperature theory (Huthmann & Zippelius 1997; Luding et al. 1998; "
             "reference/beyond.md §5, whose θ values `granboltz.rough` reproduces to four decimals) is an "
             "approximation: simulations are known to put the HCS θ 4–5 % below it at α = 0.8–0.9 and white noise "
-            "within 1 %, so the differences are measurements, not failures. The interval of θ takes the "
+            "within 1 %; a larger gap in the table is a measurement that disagrees with that account, not a failure "
+            "of the simulation. The interval of θ takes the "
             "correlation of the two steady temperatures as −1, the largest the delta method allows: exact under "
             "the Gaussian thermostat (it holds T_tr + T_rot), conservative under white noise.")
     return [("table", header, body), ("ul", [text + ".", note])], short
