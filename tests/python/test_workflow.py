@@ -30,7 +30,8 @@ ITEM_RULES = [
     *[f"tv06_{x}" for x in ("fig1", "fig2", "fig3", "fig4", "fig5", "fig7", "fig8", "dsmc")],
     # issue 10: exact moments and local tail exponents
     "grw05_ex7_moments", "grw05_tail_local_ex7", "grw05_tail_local_ex8", "grw05_tail_local_ex9", "rw05_moments",
-    "beyond_haff", "beyond_a2", "beyond_tail", "beyond_viscoelastic", "beyond_disks_a2",
+    "beyond_haff", "beyond_a2", "beyond_tail", "beyond_viscoelastic", "beyond_disks_a2", "beyond_mixture",
+    "beyond_rough",
     # issue 11: weighted particles
     "grw05_tail_swpm_ex7", "grw05_tail_swpm_ex8", "grw05_tail_swpm_ex9", "grw05_tail_swpm_check",
 ]
@@ -76,10 +77,14 @@ def test_dry_run_plans_every_job(profile):
     # one viscoelastic run per delta and the elastic one; 2 thermostats x the hard-disk alphas
     beyond = 2 + 4 * len(b["a2"]["alphas"]) + (b["tail"]["ensembles"] != b["a2"]["ensembles"])
     beyond += len(b["viscoelastic"]["deltas"]) + 1 + 2 * len(b["disks_a2"]["alphas"])
+    # the mixture: mass ratios x alphas; rough spheres: tangential betas x (HCS + white-noise alphas)
+    beyond += len(b["mixture"]["mass_ratios"]) * len(b["mixture"]["alphas"])
+    r = b["rough"]
+    beyond += len(r["tangential_betas"]) * (len(r["hcs_alphas"]) + len(r["white_noise_alphas"]))
     assert counts.pop("beyond_run") == counts.pop("beyond_run_config") == beyond
     # 11 tables and the window table; TV06 Figs. 3, 4, 7 and §4; Ex. 7 moments, amplitude, RW05
-    # moments; 5 beyond
-    assert counts.pop("table_tex") == 24
+    # moments; 7 beyond
+    assert counts.pop("table_tex") == 26
     assert counts == {"all": 1, "report": 1, **{rule: 1 for rule in ITEM_RULES}}
 
 
@@ -183,3 +188,32 @@ def test_workflow_checks_keys_across_the_config(tmp_path, spoil, message):
     bad.write_text(yaml.safe_dump(config))
     result = snakemake("--configfile", str(bad), "-n")
     assert result.returncode != 0 and message in result.stderr + result.stdout
+
+
+def test_mixture_and_rough_run_configs(tmp_path):
+    config = yaml.safe_load((ROOT / "config" / "quick.yaml").read_text())
+    mix, rough = config["beyond"]["mixture"], config["beyond"]["rough"]
+    m, a = mix["mass_ratios"][-1], mix["alphas"][0]
+    b, ra = rough["tangential_betas"][-1], rough["hcs_alphas"][0]
+    targets = {"mixture": f"results/beyond/gaussian/mixture-m{m}/alpha={a}/N={mix['ensembles']}/"
+                          f"n={mix['particles']}/run.yaml",
+               "rough": f"results/beyond/gaussian/rough-beta{b}/alpha={ra}/N={rough['ensembles']}/"
+                        f"n={rough['particles']}/run.yaml",
+               "rough_wn": f"results/beyond/white_noise/rough-beta{b}/alpha={ra}/N={rough['ensembles']}/"
+                           f"n={rough['particles']}/run.yaml"}
+    result = snakemake("--configfile", str(ROOT / "config" / "quick.yaml"), "--directory", str(tmp_path),
+                       *targets.values())
+    assert result.returncode == 0, result.stderr
+    run = {k: yaml.safe_load((tmp_path / t).read_text()) for k, t in targets.items()}
+    d = run["mixture"]["dsmc"]
+    assert d["species"] == [{"name": "heavy", "fraction": mix["x1"], "mass": float(m), "diameter": 1.0},
+                            {"name": "light", "fraction": 1 - mix["x1"], "mass": 1.0, "diameter": 1.0}]
+    assert (d["thermostat"], d["alpha"], d["kernel"], d["steady_ci"]) == (
+        "gaussian", a, {"lambda": 1, "C": config["beyond"]["C"]}, "batch")
+    assert (d["t_end"], d["observe_every"], d["steady_from"]) == (mix["t_end"], mix["observe_every"], mix["steady_from"])
+    assert "roughness" not in d and "species" not in run["rough"]["dsmc"]
+    assert all(r["dsmc"]["majorant_update"] == "strict" and "majorant" not in r["dsmc"] for r in run.values())
+    assert run["rough"]["dsmc"]["roughness"] == {"beta": float(b), "inertia": rough["kappa"]}
+    assert run["rough"]["dsmc"]["beta"] == 0.0 and run["rough_wn"]["dsmc"]["beta"] == rough["beta"]
+    assert run["rough_wn"]["dsmc"]["thermostat"] == "white_noise"
+    assert len({r["seed"] for r in run.values()}) == 3

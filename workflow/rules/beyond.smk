@@ -6,16 +6,20 @@ disks in d = 2 (docs/config.md, Dimension and collision geometry).
 Raw runs:  results/beyond/<thermostat>/<kernel>/<restitution>/N=<ensembles>/n=<particles>/run.h5
            with <thermostat> = none (Haff), gaussian or white_noise, <kernel> = maxwell (lambda = 0),
            hard_spheres (lambda = 1) or hard_disks (lambda = 1, dsmc.dimension 2, geometry impact:
-           steady runs only), <restitution> = alpha=<alpha> (constant) or delta=<delta>
-           (viscoelastic: free-cooling hard spheres only)
+           steady runs only), mixture-m<m1/m2> (a binary mixture of hard spheres, dsmc.species:
+           steady runs) or rough-beta<beta> (rough hard spheres, dsmc.roughness: steady runs),
+           <restitution> = alpha=<alpha> (constant) or delta=<delta> (viscoelastic: free-cooling
+           hard spheres only)
 Items:     Haff's law (table + figure), a2(alpha) of both thermostats (table + figure), the HCS tail
            (local exponent; table + figure), viscoelastic free cooling (T ~ t^(-5/3); table +
-           figure), a2 and a3 of hard disks (table + figure), in the report section "Beyond the papers".
+           figure), a2 and a3 of hard disks (table + figure), T1/T2 of a binary mixture and theta =
+           T_rot/T_tr of rough spheres (tables + figures), in the report section "Beyond the papers".
 """
 
 BEYOND = config["beyond"]
 BEYOND_PAPER = "Beyond the papers"
 BEYOND_LAMBDA = {"maxwell": 0, "hard_spheres": 1, "hard_disks": 1}
+BEYOND_KERNELS = "maxwell|hard_spheres|hard_disks|mixture-m[0-9.]+|rough-beta-?[0-9.]+"
 
 
 def check_beyond(b):
@@ -23,10 +27,10 @@ def check_beyond(b):
     visco = b["viscoelastic"]
     for name, timing in [("haff.maxwell", b["haff"]["maxwell"]), ("haff.hard_spheres", b["haff"]["hard_spheres"]),
                          ("a2", b["a2"]), ("viscoelastic", visco), ("viscoelastic.elastic", visco["elastic"]),
-                         ("disks_a2", b["disks_a2"])]:
+                         ("disks_a2", b["disks_a2"]), ("mixture", b["mixture"]), ("rough", b["rough"])]:
         if not _whole(timing["t_end"], timing["observe_every"]):
             raise ValueError(f"beyond.{name}: t_end must be a whole multiple of observe_every")
-    for name in ("a2", "disks_a2"):
+    for name in ("a2", "disks_a2", "mixture", "rough"):
         if not b[name]["steady_from"] < b[name]["t_end"]:
             raise ValueError(f"beyond.{name}: need steady_from < t_end")
     if not set(b["a2"]["key_alphas"]) <= set(b["a2"]["alphas"]):
@@ -56,6 +60,8 @@ def beyond_run_config(wildcards):
     timing, C and beta (beyond_disk_config)."""
     if wildcards.kernel == "hard_disks":
         return beyond_disk_config(wildcards)
+    if wildcards.kernel.startswith(("mixture-", "rough-")):
+        return beyond_mixed_config(wildcards)
     law, value = wildcards.restitution.split("=")
     physics = {"beta": 0.0, "gamma": BEYOND["gamma"],
                "kernel": {"lambda": BEYOND_LAMBDA[wildcards.kernel], "C": BEYOND["C"]},
@@ -104,6 +110,44 @@ def beyond_disk_config(wildcards):
     return dsmc_run_config(label, physics, wildcards.N, wildcards.n, disks["t_end"], disks["observe_every"], **extra)
 
 
+def beyond_mixed_config(wildcards):
+    """Run config of a mixture or rough-sphere run, results/beyond/{thermostat}/mixture-m{m1/m2}/...
+    or .../rough-beta{beta}/...: steady hard spheres (lambda 1, C of beyond), constant alpha, with
+    the timing of beyond.mixture or beyond.rough, steady averages with the batch interval, the
+    majorant updated strictly (what the general-gas engine takes).  The
+    mixture: species heavy (mass m1/m2, fraction x1) and light (mass 1), both of diameter 1; rough
+    spheres: dsmc.roughness {beta, inertia: kappa}, spins started at the translational temperature."""
+    law, value = wildcards.restitution.split("=")
+    if law != "alpha" or wildcards.thermostat == "none":
+        raise ValueError(f"{wildcards.thermostat}/{wildcards.restitution}: these runs are steady, constant alpha")
+    mixture = wildcards.kernel.startswith("mixture-")
+    item = BEYOND["mixture" if mixture else "rough"]
+    physics = {"alpha": float(value), "beta": item.get("beta", 0.0) if wildcards.thermostat == "white_noise" else 0.0,
+               "gamma": BEYOND["gamma"], "kernel": {"lambda": 1, "C": BEYOND["C"]},
+               "temperature0": BEYOND["temperature0"]}
+    extra = {"thermostat": wildcards.thermostat}
+    if mixture:
+        x1 = item["x1"]
+        extra["species"] = [{"name": "heavy", "fraction": x1, "mass": float(wildcards.kernel[len("mixture-m"):]),
+                             "diameter": 1.0},
+                            {"name": "light", "fraction": round(1 - x1, 12), "mass": 1.0, "diameter": 1.0}]
+    else:
+        extra["roughness"] = {"beta": float(wildcards.kernel[len("rough-beta"):]), "inertia": item["kappa"]}
+    # the general-gas engine: one exact bound per pair of species (the global majorant, its default),
+    # updated strictly (it refuses the papers' truncated kernel and the pairwise majorant)
+    physics["majorant_update"] = "strict"
+    extra.update(steady_from=item["steady_from"], steady_ci="batch")
+    label = f"beyond/{wildcards.thermostat}/{wildcards.kernel}/{wildcards.restitution}/n={wildcards.n}"
+    return dsmc_run_config(label, physics, wildcards.N, wildcards.n, item["t_end"], item["observe_every"], **extra)
+
+
+def beyond_mixed_runs(kind, thermostat, values, alphas, item):
+    """The runs of the mixture (kind "mixture", values the mass ratios) or rough-sphere item
+    ("rough", values the betas) for one thermostat."""
+    kernels = [f"mixture-m{v}" if kind == "mixture" else f"rough-beta{v}" for v in values]
+    return beyond_runs(thermostat, kernels, alphas, item["ensembles"], item["particles"])
+
+
 localrules:
     beyond_run_config,
 
@@ -115,7 +159,7 @@ rule beyond_run_config:
         "logs/beyond/{thermostat}/{kernel}/{restitution}/N={N}/n={n}/run_config.log",
     wildcard_constraints:
         thermostat="none|gaussian|white_noise",
-        kernel="maxwell|hard_spheres|hard_disks",
+        kernel=BEYOND_KERNELS,
         restitution="(alpha|delta)=[0-9.]+",
     params:
         run=beyond_run_config,
@@ -135,7 +179,7 @@ rule beyond_run:
         "benchmarks/beyond/{thermostat}/{kernel}/{restitution}/N={N}/n={n}/run.tsv"
     wildcard_constraints:
         thermostat="none|gaussian|white_noise",
-        kernel="maxwell|hard_spheres|hard_disks",
+        kernel=BEYOND_KERNELS,
         restitution="(alpha|delta)=[0-9.]+",
     threads: run_threads
     resources:
@@ -145,6 +189,7 @@ rule beyond_run:
 
 
 HAFF, A2, TAIL, VISCO, DISKS = BEYOND["haff"], BEYOND["a2"], BEYOND["tail"], BEYOND["viscoelastic"], BEYOND["disks_a2"]
+MIXTURE, ROUGH = BEYOND["mixture"], BEYOND["rough"]
 
 
 rule beyond_haff:
@@ -242,6 +287,43 @@ rule beyond_disks_a2:
         "../scripts/beyond_disks_a2.py"
 
 
+rule beyond_mixture:
+    input:
+        runs=beyond_mixed_runs("mixture", "gaussian", MIXTURE["mass_ratios"], MIXTURE["alphas"], MIXTURE),
+    output:
+        csv=report("results/tables/beyond_mixture.csv", caption="../report/beyond.rst", category="Beyond the papers"),
+        png=report("figures/beyond_mixture.png", caption="../report/beyond.rst", category="Beyond the papers"),
+        pdf="figures/beyond_mixture.pdf",
+        summary="results/figures/beyond_mixture.json",
+    log:
+        "logs/figures/beyond_mixture.log",
+    benchmark:
+        "benchmarks/figures/beyond_mixture.tsv"
+    params:
+        x1=MIXTURE["x1"],
+    script:
+        "../scripts/beyond_mixture.py"
+
+
+rule beyond_rough:
+    input:
+        runs=beyond_mixed_runs("rough", "gaussian", ROUGH["tangential_betas"], ROUGH["hcs_alphas"], ROUGH)
+        + beyond_mixed_runs("rough", "white_noise", ROUGH["tangential_betas"], ROUGH["white_noise_alphas"], ROUGH),
+    output:
+        csv=report("results/tables/beyond_rough.csv", caption="../report/beyond.rst", category="Beyond the papers"),
+        png=report("figures/beyond_rough.png", caption="../report/beyond.rst", category="Beyond the papers"),
+        pdf="figures/beyond_rough.pdf",
+        summary="results/figures/beyond_rough.json",
+    log:
+        "logs/figures/beyond_rough.log",
+    benchmark:
+        "benchmarks/figures/beyond_rough.tsv"
+    params:
+        kappa=ROUGH["kappa"],
+    script:
+        "../scripts/beyond_rough.py"
+
+
 for _rule, _name, _what in (
     (rules.beyond_haff, "Haff's law", "free cooling: Maxwell molecules T0 e^{−γπC(1−α²)t} exactly; hard spheres "
                                       "T0/(1 + t/t0)² with t0 from the cooling rate with the first-Sonine a2"),
@@ -256,7 +338,13 @@ for _rule, _name, _what in (
     (rules.beyond_disks_a2, "a2(α) of hard disks (d = 2)", "Sonine coefficients a2, a3 of hard disks (d = 2, impact "
                             "normals), HCS (Gaussian thermostat) and white noise, against van Noije–Ernst's d = 2 "
                             "first Sonine and the second Sonine approximation; white-noise T against the energy "
-                            "balance")):
+                            "balance"),
+    (rules.beyond_mixture, "T1/T2 of a binary mixture", "temperature ratio T1/T2 of the HCS (Gaussian thermostat) of a "
+                           "binary mixture of hard spheres (equal sizes, x1 = 1/2, m1/m2 = 2 and 4) against the "
+                           "Maxwellian approximation of Garzó–Dufty (1999)"),
+    (rules.beyond_rough, "θ of rough spheres", "ratio θ = T_rot/T_tr of rough hard spheres (κ = 2/5), HCS (Gaussian "
+                         "thermostat) and white noise on the translational velocities, against the Maxwellian "
+                         "approximation of Huthmann–Zippelius and Luding et al.")):
     _runs = _rule.input.runs if hasattr(_rule.input, "runs") else [_rule.input.run]
     report_item(BEYOND_PAPER, _name, _rule, "figure", _rule.output.png, _what, runs=_runs,
                 run_rule=rules.beyond_run, summary=_rule.output.summary)

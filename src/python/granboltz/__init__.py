@@ -20,6 +20,8 @@ Modules, one concern each (import the one you need; nothing heavy is imported he
     tv06_tables, tv06_histograms   TV06 runs, tables and histograms
     beyond, viscoelastic, disks   the report section "Beyond the papers" (viscoelastic: free cooling,
                  T ~ t^(-5/3); disks: a2, a3 of hard disks in d = 2)
+    mixtures     Garzó-Dufty partial cooling rates, T_i/T of the HCS and white noise, Martin-Piasecki
+    rough        rough spheres: the Maxwellian theta = T_rot/T_tr of the HCS and white noise
     plotting     matplotlib with the house style, reproducible figure files
     files        atomic CSV/text/JSON writing
     report       the reproduction report (subpackage)

@@ -76,7 +76,10 @@ def steady_layout(reader, section, time, n, P, moments, out, acc):
                      for name, trail in _DSMC_OBSERVABLES}
     sm_why = why("dsmc.steady_from and dsmc.moments > 0")
     out["steady"].update({f"steady/{name}": observable_specs(f"steady/{name}", trail, (), sm_why)
-                          for name, trail in moments})
+                          for name, trail in moments if name.startswith("moment_")})
+    if ("temperature_rotational", ()) in moments:  # rough spheres (dsmc.roughness), one more steady group
+        out["steady"]["steady/temperature_rotational"] = observable_specs(
+            "steady/temperature_rotational", (), (), why("dsmc.steady_from and dsmc.roughness"))
     acc.append(Spec("accumulators/steady", I8, (_DSMC_SCALARS,) + _SUMS, True, s_why))
     if P:
         acc.append(Spec("accumulators/moment_steady", I8, (P,) + _SUMS, True, s_why))

@@ -133,7 +133,8 @@ def dsmc_layout(reader, section, time, n):
     What a file has depends on when its simulator was built, and the resolved config tells: one
     with dsmc.histogram.center has attribute center on the histograms. Optional, so that files of
     older simulators still read: /a2, /a3 (mean and ci, no variance), read as groups the layout
-    does not name."""
+    does not name. A mixture (dsmc.species) has out["species"] (granboltz.species.species_layout),
+    rough spheres (dsmc.roughness) /temperature_rotational and its steady average."""
     path, why = reader.path, reader.why
     P = config_int(path, section, "dsmc", ("moments",), 4)
     K1 = config_int(path, section, "dsmc", ("histogram", "shells")) + 1
@@ -146,6 +147,10 @@ def dsmc_layout(reader, section, time, n):
     m_why = why("dsmc.moments > 0")
     out = {"observables": {name: observable_specs(name, trail, (R,), why()) for name, trail in _DSMC_OBSERVABLES}}
     out["observables"].update({name: observable_specs(name, trail, (R,), m_why) for name, trail in moments})
+    rough = section.get("roughness") is not None
+    if rough:  # rough spheres: the rotational temperature beside the translational /temperature
+        out["observables"]["temperature_rotational"] = observable_specs("temperature_rotational", (), (R,),
+                                                                        why("dsmc.roughness"))
     events = [Spec(f"events/{key}", U8, (n,), True, why()) for key in ("collisions", "fictitious", "kicks")]
     events.append(Spec("events/u_max_final", F8, (n,), True, why()))
     if swpm:
@@ -159,7 +164,8 @@ def dsmc_layout(reader, section, time, n):
     if steady:
         from .intervals import steady_layout  # it builds on this module
 
-        steady_layout(reader, section, time, n, P, moments, out, acc)
+        steady_layout(reader, section, time, n, P, moments + ([("temperature_rotational", ())] if rough else []),
+                      out, acc)
     if shells:
         h_why = why("dsmc.histogram")
         sh_why = why("dsmc.histogram and dsmc.steady_from")
@@ -174,6 +180,9 @@ def dsmc_layout(reader, section, time, n):
             out["text"].append(("histogram_component", "center", ("bulk",), c_why))  # always about V(t)
     out["accumulators"] = acc
     out["scalars"], out["exact"] = [], []
+    from .species import species_layout  # it builds on this module
+
+    out["species"] = species_layout(reader, section, time, n, P, steady)
     return out
 
 

@@ -8,6 +8,9 @@
     run.observables                  # {name: Observable} of every observable in the file
     run.histograms["histogram"]      # read from the file only when first asked for
     run.events["collisions"]         # per-ensemble counters
+    run.species["heavy"].temperature # a mixture's species (granboltz.species): observables, .a2, .steady,
+                                     # .mass, .diameter, .fraction, .particles, .events
+    run.temperature_rotational       # rough spheres: T_rot (run.temperature stays translational)
     run.config, run.provenance       # the resolved config; version, commit, threads, wall time, ...
 
 A merged file (`granboltz merge`) is identical to the unsharded run and reads the same; a single
@@ -23,7 +26,7 @@ the wrong shape, dtype or non-finite values. The layout checked is what the simu
 shard must have all of it too, for its own ensembles.
 """
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import h5py
 import numpy as np
@@ -33,9 +36,10 @@ from .intervals import Interval, read_fields, read_steady
 from .layout import F8, U8, Spec, check_provenance, config_section, dsmc_layout, shard_range, tv06_layout
 from .histograms import LazyHistograms
 from .reader import Reader
+from .species import read_species
 
 _HISTOGRAM_GROUPS = ("histogram", "histogram_component", "velocity_histogram", "omega_histogram")
-_NOT_OBSERVABLES = {"events", "steady", "accumulators", "provenance", "exact"} | set(_HISTOGRAM_GROUPS)
+_NOT_OBSERVABLES = {"events", "steady", "accumulators", "provenance", "exact", "species"} | set(_HISTOGRAM_GROUPS)
 
 
 @dataclass(frozen=True)
@@ -47,7 +51,8 @@ class Observable:
     A steady average (run.steady) also has sigma, its standard error, with estimator, tau_int,
     effective_samples, block_rows (as Interval), and with steady_ci: independent batch, the
     Interval of the batch estimator of the same run (ci takes the correlated rows as independent,
-    batch.ci does not). None where the file has none: series, TV06, older files."""
+    batch.ci does not). None where the file has none: series, TV06, older files. bias: the
+    estimated bias of a ratio (a species' a2, a3), else None."""
 
     name: str
     mean: np.ndarray
@@ -60,6 +65,7 @@ class Observable:
     effective_samples: float = None
     block_rows: int = None
     batch: Interval = None
+    bias: np.ndarray = None
 
     def __repr__(self):
         from .summary import observable_summary
@@ -93,6 +99,7 @@ class Run:
     steady: dict
     exact: dict
     provenance: dict
+    species: dict = field(default_factory=dict)  # {name: granboltz.species.Species} of a mixture
 
     def __getattr__(self, name):
         observables = self.__dict__.get("observables", {})
@@ -216,7 +223,7 @@ def _read(reader, config, model):
     events = {"ensemble": index}
     events.update({spec.name.rpartition("/")[2]: reader.dataset(spec) for spec in layout["events"]})
     for name in reader.names("events"):
-        if name not in events:
+        if name not in events and not (name == "species" and layout.get("species")):
             events[name] = read_dataset(f, f"events/{name}", path)
 
     steady = {name.rpartition("/")[2]: Observable(name=name, **fields)
@@ -267,6 +274,7 @@ def _read(reader, config, model):
         reader.fail("attribute confidence_lambda_p", f"is {lambda_p}, not positive")
 
     histograms = [g for g in _HISTOGRAM_GROUPS if g in layout["histograms"] or g in reader.names("/")]
+    species = read_species(reader, layout.get("species"), section, n, int(section.get("particles", 0)))
     return Run(path=path, model=model, config=config, ensembles=ensembles, time=time, observables=observables,
                histograms=LazyHistograms(path, histograms, layout["histograms"]),
-               events=events, steady=steady, exact=exact, provenance=prov)
+               events=events, steady=steady, exact=exact, provenance=prov, species=species)

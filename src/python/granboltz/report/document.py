@@ -4,7 +4,7 @@ comparison of each table with the published numbers is chosen by the item's `com
 (COMPARE); the summary shows each short verdict with a mark (verdict_kind)."""
 
 from .beyond import (BEYOND, beyond_section, compare_beyond_a2, compare_beyond_disks_a2, compare_beyond_haff,
-                     compare_beyond_tail, compare_beyond_viscoelastic)
+                     compare_beyond_mixture, compare_beyond_rough, compare_beyond_tail, compare_beyond_viscoelastic)
 from .convergence import compare_convergence, compare_rw05_table1, compare_rw05_table2
 from .numbers import VERDICT_MARKS, VERDICT_MEANING, marked, num
 from .render import anchor
@@ -27,7 +27,8 @@ COMPARE = {"convergence": compare_convergence, "rw05_table1": compare_rw05_table
            "tv06_temperature": compare_tv06_temperature,
            "tv06_needle": compare_tv06_needle, "tv06_dsmc": compare_tv06_dsmc, None: plain_table,
            "beyond_haff": compare_beyond_haff, "beyond_a2": compare_beyond_a2, "beyond_tail": compare_beyond_tail,
-           "beyond_viscoelastic": compare_beyond_viscoelastic, "beyond_disks_a2": compare_beyond_disks_a2}
+           "beyond_viscoelastic": compare_beyond_viscoelastic, "beyond_disks_a2": compare_beyond_disks_a2,
+           "beyond_mixture": compare_beyond_mixture, "beyond_rough": compare_beyond_rough}
 
 # ----------------------------------------------------------------------------- the document
 PAPERS = {
