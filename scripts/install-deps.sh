@@ -12,6 +12,7 @@ PACKAGES=(
   librandom123-dev
   snakemake python3-numpy python3-h5py python3-matplotlib python3-scipy python3-pytest
   python3-jsonschema python3-yaml python3-sympy python3-mpmath python3-setuptools python3-pip
+  pybind11-dev python3-pybind11 python3-dev python3-tqdm
 )
 BROWSER_PACKAGES=(chromium)
 # --with-fuzz: AFL++ (and the clang it instruments with), for `make fuzz` only, never CI.

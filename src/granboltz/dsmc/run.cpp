@@ -397,8 +397,15 @@ void run_dsmc(const DsmcRunConfig& config, const DriverOptions& options, Record&
   std::atomic<bool> pause{false};
   int active = 0;
   std::map<std::uint64_t, const InProgress*> parked;
+  bool cancelled = false;  // DriverOptions::cancel: the ensembles under way stop at a safe point
 
   DriverOptions opts = options;
+  opts.on_cancel = [&] {
+    std::lock_guard<std::mutex> lock(mutex);
+    cancelled = true;
+    pause = true;
+    changed.notify_all();
+  };
   if (options.checkpoint)
     opts.tick = [&] {
       std::unique_lock<std::mutex> lock(mutex);
@@ -473,9 +480,10 @@ void run_dsmc(const DsmcRunConfig& config, const DriverOptions& options, Record&
       if (m > 0)
         while (!advance(times[m])) {
           std::unique_lock<std::mutex> lock(mutex);
+          if (cancelled) throw RunCancelled();
           parked[e] = &w;
           changed.notify_all();
-          changed.wait(lock, [&] { return !pause.load(); });
+          changed.wait(lock, [&] { return !pause.load() || cancelled; });
           parked.erase(e);
         }
       if (w.weighted) {

@@ -91,16 +91,35 @@ void for_each_ensemble(const std::vector<std::uint64_t>& ensembles, const Driver
       std::chrono::duration<double>(ticking ? options.checkpoint_every : 3600.0));
   auto next_tick = start + tick_every;
   bool reported = false;
+  bool cancelled = false;
+  const bool polling = ticking || options.cancel || options.fraction;
+  auto completed = [&] {
+    double fraction = static_cast<double>(done.load());
+    for (unsigned w = 0; w < nthreads; ++w) fraction += slots[w].load();
+    return fraction / static_cast<double>(total);
+  };
   if (ticking) g_checkpointing.store(true);
   {
     std::unique_lock<std::mutex> lock(mutex);
     while (running > 0) {
-      const auto wake = ticking ? std::min({next_report, next_tick,
+      const auto wake = polling ? std::min({next_report, next_tick,
                                             std::chrono::steady_clock::now() + kStopPoll})
                                 : next_report;
       if (finished.wait_until(lock, wake, [&] { return running == 0; })) break;
+      if (options.fraction) options.fraction->store(completed());
+      if (options.cancel && !cancelled && options.cancel->load()) {
+        cancelled = true;
+        stop = true;
+        if (options.on_cancel) {
+          lock.unlock();
+          options.on_cancel();
+          lock.lock();
+        }
+        continue;
+      }
       // A requested final checkpoint is taken like a due one; its callback ends the process.
-      if (ticking && (std::chrono::steady_clock::now() >= next_tick || g_final_requested.load())) {
+      if (ticking && !cancelled &&
+          (std::chrono::steady_clock::now() >= next_tick || g_final_requested.load())) {
         lock.unlock();
         // Cleared only if it was asked for before this checkpoint: a request that arrives while
         // it is written (after its callback looked) is taken at the next turn, not lost.
@@ -125,9 +144,7 @@ void for_each_ensemble(const std::vector<std::uint64_t>& ensembles, const Driver
         next_report += kReportEvery;
         continue;
       }
-      double fraction = static_cast<double>(done.load());
-      for (unsigned w = 0; w < nthreads; ++w) fraction += slots[w].load();
-      fraction /= static_cast<double>(total);
+      const double fraction = completed();
       const double elapsed =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       const std::string eta =
@@ -143,6 +160,9 @@ void for_each_ensemble(const std::vector<std::uint64_t>& ensembles, const Driver
   g_checkpointing.store(false);
   for (auto& t : pool) t.join();
   if (error) std::rethrow_exception(error);
+  if (cancelled || (options.cancel && options.cancel->load() && done.load() < total))
+    throw RunCancelled();
+  if (options.fraction) options.fraction->store(1.0);
   if (reported && options.progress) {
     const double elapsed =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -5,6 +5,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,19 @@ struct DriverOptions {
   std::string resume_from;
   /// Called from the driver's own thread every checkpoint_every seconds (set by a model's run).
   std::function<void()> tick;
+  /// Set from outside (another thread, a signal handler) to stop the run: no ensemble starts
+  /// after it, those under way stop at their next safe point if the model supports it (on_cancel;
+  /// else when they end), and for_each_ensemble throws RunCancelled. nullptr: never.
+  const std::atomic<bool>* cancel = nullptr;
+  /// Called once from the driver's thread when it sees `cancel` (set by a model's run).
+  std::function<void()> on_cancel;
+  /// If given, the driver stores the run's completed fraction in [0, 1] here about every 0.1 s.
+  std::atomic<double>* fraction = nullptr;
+};
+
+/// Thrown by a run stopped through DriverOptions::cancel.
+struct RunCancelled : std::runtime_error {
+  RunCancelled() : std::runtime_error("the run was cancelled") {}
 };
 
 /// Calls body(e, slot) for every ensemble e of `ensembles`. The first exception thrown by a

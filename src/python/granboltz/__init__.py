@@ -25,6 +25,8 @@ Modules, one concern each (import the one you need; nothing heavy is imported he
     plotting     matplotlib with the house style, reproducible figure files
     files        atomic CSV/text/JSON writing
     report       the reproduction report (subpackage)
+    simulate     the simulator in this process (extension granboltz._core): simulate, Simulation,
+                 ConfigError, also on the package itself
 """
 
 __version__ = "0.1.0"
@@ -40,4 +42,14 @@ def __getattr__(name):
         from .io import RunReadError
 
         return RunReadError
+    if name in ("simulate", "Simulation", "ConfigError"):
+        # The compiled extension granboltz._core, loaded on first use. Importing the submodule
+        # granboltz.simulate binds that name to the module: the function takes it back (the
+        # module stays importable from sys.modules: `from granboltz.simulate import Simulation`).
+        import importlib
+
+        module = importlib.import_module(".simulate", __name__)
+        globals().update(simulate=module.simulate, Simulation=module.Simulation,
+                         ConfigError=module.ConfigError)
+        return globals()[name]
     raise AttributeError(f"module 'granboltz' has no attribute {name!r}")

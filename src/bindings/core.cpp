@@ -1,0 +1,362 @@
+// granboltz._core: the simulator in-process for Python (granboltz.simulate, granboltz.Simulation;
+// the Python side is src/python/granboltz/simulate.py). Whole runs go through run_to_file, as
+// `granboltz run` does; Simulation wraps the engine of one DSMC ensemble.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <csignal>
+#include <exception>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "granboltz/app/config.hpp"
+#include "granboltz/app/run.hpp"
+#include "granboltz/core/gsl_errors.hpp"
+#include "granboltz/dsmc/ensemble.hpp"
+#include "granboltz/dsmc/gas.hpp"
+#include "granboltz/dsmc/gas_observables.hpp"
+#include "granboltz/dsmc/observables.hpp"
+#include "granboltz/dsmc/run.hpp"
+#include "granboltz/dsmc/weighted.hpp"
+#include "granboltz/exec/ensemble_pool.hpp"
+#include "granboltz/h5/hdf5_io.hpp"
+
+namespace py = pybind11;
+using namespace granboltz;
+
+namespace {
+
+// Python's own handler for SIGINT only sets a flag that bytecode notices; while C++ runs with the
+// GIL released nobody looks at it. During Simulation.advance this handler asks the engine to stop
+// at its next safe point instead.
+std::atomic<bool> g_interrupted{false};
+static_assert(std::atomic<bool>::is_always_lock_free);
+extern "C" void on_sigint(int) { g_interrupted.store(true); }
+
+struct SigintGuard {  // installs on_sigint for its lifetime, then puts the previous handler back
+  struct sigaction previous {};
+  bool installed = false;
+  explicit SigintGuard(bool install) {
+    g_interrupted.store(false);
+    if (!install) return;
+    struct sigaction action {};
+    action.sa_handler = on_sigint;
+    sigemptyset(&action.sa_mask);
+    installed = sigaction(SIGINT, &action, &previous) == 0;
+  }
+  ~SigintGuard() {
+    if (installed) sigaction(SIGINT, &previous, nullptr);
+  }
+};
+
+/// Parses a config as the CLI does and returns it with every default explicit.
+std::string normalized_config(const std::string& text, const std::string& origin) {
+  return parse_config(text, origin).to_yaml(false);
+}
+
+/// A whole run, written to `output` by run_to_file on a thread of its own while this (the
+/// calling) thread waits with the GIL released, looking every 0.1 s for a signal (Python's
+/// handlers run here: KeyboardInterrupt cancels the run) and feeding `progress(fraction)`.
+void run_file(const std::string& text, const std::string& origin, const std::string& output,
+              std::optional<unsigned> threads, const py::object& progress,
+              const std::string& command) {
+  Config config = parse_config(text, origin);
+  if (threads) config.threads = *threads;
+  check_output_path(output, {output + ".checkpoint"});
+  std::atomic<bool> cancel{false};
+  std::atomic<double> fraction{0.0};
+  DriverOptions options;
+  options.threads = config.threads;
+  options.progress = false;  // Python shows the progress (or nothing)
+  options.label = origin;
+  options.cancel = &cancel;
+  options.fraction = &fraction;
+
+  std::mutex mutex;
+  std::condition_variable changed;
+  bool finished = false;
+  std::exception_ptr error;
+  std::thread worker([&] {
+    try {
+      run_to_file(config, output, options, command);
+    } catch (...) {
+      error = std::current_exception();
+    }
+    std::lock_guard<std::mutex> lock(mutex);
+    finished = true;
+    changed.notify_all();
+  });
+  auto stop = [&] {  // cancel and wait for the worker: its temporary file is removed on unwinding
+    cancel.store(true);
+    py::gil_scoped_release release;
+    worker.join();
+  };
+  for (;;) {
+    bool done;
+    {
+      py::gil_scoped_release release;
+      std::unique_lock<std::mutex> lock(mutex);
+      done = changed.wait_for(lock, std::chrono::milliseconds(100), [&] { return finished; });
+    }
+    if (done) break;
+    try {
+      if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+      if (!progress.is_none()) progress(fraction.load());
+    } catch (...) {
+      stop();
+      throw;
+    }
+  }
+  worker.join();
+  if (error) std::rethrow_exception(error);
+  if (!progress.is_none()) progress(1.0);
+}
+
+/// One ensemble of a DSMC run, advanced on request.
+class Simulation {
+ public:
+  Simulation(const std::string& text, const std::string& origin, std::uint64_t ensemble)
+      : config_(std::make_unique<Config>(parse_config(text, origin))), ensemble_(ensemble) {
+    check_model();
+    const DsmcConfig& d = config_->dsmc;
+    if (d.weights.swpm) weighted_ = std::make_unique<WeightedEnsemble>(d, config_->seed, ensemble);
+    else if (d.general()) gas_ = std::make_unique<GasEnsemble>(d, config_->seed, ensemble);
+    else plain_ = std::make_unique<DsmcEnsemble>(d, config_->seed, ensemble);
+  }
+
+  /// Reads a state written by save().
+  static std::unique_ptr<Simulation> restore(const std::string& path) {
+    H5Reader in(path);
+    if (!in.has_attr("/", "kind") || in.attr_string("/", "kind") != "simulation")
+      throw std::runtime_error(path + ": not a state written by granboltz.Simulation.save");
+    auto s = std::unique_ptr<Simulation>(new Simulation());
+    s->config_ = std::make_unique<Config>(parse_config(in.attr_string("/", "config"), path));
+    s->ensemble_ = in.attr_uint64("/", "ensemble");
+    s->check_model();
+    const DsmcConfig& d = s->config_->dsmc;
+    if (d.weights.swpm) s->weighted_ = std::make_unique<WeightedEnsemble>(d, in, "/state");
+    else if (d.general()) s->gas_ = std::make_unique<GasEnsemble>(d, in, "/state");
+    else s->plain_ = std::make_unique<DsmcEnsemble>(d, in, "/state");
+    return s;
+  }
+
+  void save(const std::string& path) const {
+    H5Writer out(path);
+    out.attr("/", "kind", std::string("simulation"));
+    out.attr("/", "config", config_->to_yaml(false));
+    out.attr("/", "ensemble", ensemble_);
+    if (weighted_) weighted_->save(out, "/state");
+    else if (gas_) gas_->save(out, "/state");
+    else plain_->save(out, "/state");
+    out.commit();
+  }
+
+  /// Advances to time t; returns false if SIGINT arrived (the state is then at a safe point,
+  /// from which a later call continues as if uninterrupted).
+  bool advance(double t, bool interruptible) {
+    const DsmcConfig& d = config_->dsmc;
+    const double now = time();
+    if (!std::isfinite(t) || t < now)
+      throw py::value_error("advance(" + format(t) + "): t must be finite and >= time = " +
+                            format(now));
+    if (d.scheme != Scheme::kNoSplit) {
+      const double k = t / d.time_step();
+      if (std::fabs(k - std::round(k)) > 1e-9 * std::max(1.0, std::fabs(k)))
+        throw py::value_error("advance(" + format(t) + "): the " + scheme_name() +
+                              " scheme steps by dt = t_end/steps = " + format(d.time_step()) +
+                              "; t must be a multiple of dt");
+    }
+    if (t == now) return true;
+    bool reached;
+    {
+      py::gil_scoped_release release;
+      SigintGuard guard(interruptible);
+      const std::atomic<bool>* pause = &g_interrupted;
+      reached = weighted_ ? weighted_->advance_to(t, pause)
+                : gas_    ? gas_->advance_to(t, pause)
+                          : plain_->advance_to(t, pause);
+      reached = reached && !g_interrupted.load();
+    }
+    return reached;
+  }
+
+  double time() const {
+    return weighted_ ? weighted_->time() : gas_ ? gas_->time() : plain_->time();
+  }
+  double t_end() const { return config_->dsmc.t_end; }
+  int dimension() const { return config_->dsmc.dimension; }
+  std::uint64_t ensemble() const { return ensemble_; }
+  std::string config_text() const { return config_->to_yaml(false); }
+  std::string engine() const { return weighted_ ? "weighted" : gas_ ? "gas" : "dsmc"; }
+
+  const Particles& particles() const {
+    return weighted_ ? weighted_->particles() : gas_ ? gas_->particles() : plain_->particles();
+  }
+
+  py::array_t<double> velocities() const {
+    const Particles& p = particles();
+    const auto n = static_cast<py::ssize_t>(p.size());
+    const int d = dimension();
+    py::array_t<double> out({n, static_cast<py::ssize_t>(d)});
+    auto a = out.mutable_unchecked<2>();
+    for (py::ssize_t i = 0; i < n; ++i) {
+      const Vec3& v = p[static_cast<std::size_t>(i)].v;
+      a(i, 0) = v.x;
+      a(i, 1) = v.y;
+      if (d == 3) a(i, 2) = v.z;
+    }
+    return out;
+  }
+
+  py::object spins() const {
+    if (!gas_ || !config_->dsmc.roughness.on) return py::none();
+    const auto& w = gas_->spins();
+    const auto n = static_cast<py::ssize_t>(w.size());
+    if (dimension() == 2) {
+      py::array_t<double> out(n);
+      auto a = out.mutable_unchecked<1>();
+      for (py::ssize_t i = 0; i < n; ++i) a(i) = w[static_cast<std::size_t>(i)].z;
+      return out;
+    }
+    py::array_t<double> out({n, py::ssize_t{3}});
+    auto a = out.mutable_unchecked<2>();
+    for (py::ssize_t i = 0; i < n; ++i) {
+      const Vec3& v = w[static_cast<std::size_t>(i)];
+      a(i, 0) = v.x, a(i, 1) = v.y, a(i, 2) = v.z;
+    }
+    return out;
+  }
+
+  py::object weights() const {
+    if (!weighted_) return py::none();
+    const auto& g = weighted_->weights();
+    py::array_t<double> out(static_cast<py::ssize_t>(g.size()));
+    std::copy(g.begin(), g.end(), out.mutable_data());
+    return out;
+  }
+
+  py::dict counts() const {
+    const EventCounts& c = weighted_ ? weighted_->counts() : gas_ ? gas_->counts() : plain_->counts();
+    py::dict out;
+    out["collisions"] = c.collisions;
+    out["fictitious"] = c.fictitious;
+    out["kicks"] = c.kicks;
+    if (weighted_) {
+      out["reductions"] = weighted_->reductions();
+      out["split_sweeps"] = weighted_->split_sweeps();
+    }
+    return out;
+  }
+
+  /// {"scalars": the Observation, "moments": <|v-V|^2p>, p = 1..dsmc.moments, and for the
+  /// general gas "rows": [(group, scalars, moments)] of extra_row_sets}.
+  py::dict observe() const {
+    const DsmcConfig& d = config_->dsmc;
+    const auto P = static_cast<std::size_t>(d.moments);
+    std::vector<double> moments(P, 0.0);
+    Observation obs{};
+    py::list rows;
+    if (weighted_) {
+      obs = measure_weighted(weighted_->particles(), weighted_->weights(), moments, d.dimension);
+    } else if (gas_) {
+      const std::vector<RowSet> sets = extra_row_sets(d);
+      std::vector<std::vector<double>> xo, xm;
+      std::vector<double*> po, pm;
+      for (const RowSet& x : sets) {
+        xo.emplace_back(x.width, 0.0);
+        xm.emplace_back(x.P, 0.0);
+      }
+      for (std::size_t k = 0; k < sets.size(); ++k) po.push_back(xo[k].data()), pm.push_back(xm[k].data());
+      obs = measure_gas(d, gas_->particles(), gas_->spins(), moments, po, pm);
+      for (std::size_t k = 0; k < sets.size(); ++k)
+        rows.append(py::make_tuple(sets[k].group, xo[k], xm[k]));
+    } else {
+      obs = measure(plain_->particles(), moments, d.dimension);
+    }
+    py::dict out;
+    out["scalars"] = std::vector<double>(obs.begin(), obs.end());
+    out["moments"] = moments;
+    out["rows"] = rows;
+    return out;
+  }
+
+ private:
+  Simulation() = default;
+
+  void check_model() const {
+    if (config_->model != Model::kDsmc)
+      throw py::value_error("granboltz.Simulation: model " + model_name(config_->model) +
+                            ": only model dsmc can be advanced step by step; run intruder and "
+                            "needle configs with granboltz.simulate");
+    if (ensemble_ >= config_->ensembles)
+      throw py::value_error("granboltz.Simulation: ensemble " + std::to_string(ensemble_) +
+                            " is not one of the config's ensembles 0.." +
+                            std::to_string(config_->ensembles - 1));
+  }
+  std::string scheme_name() const {
+    return config_->dsmc.scheme == Scheme::kEuler ? "euler" : "strang";
+  }
+  static std::string format(double x) {
+    char buf[40];
+    std::snprintf(buf, sizeof buf, "%.17g", x);
+    return buf;
+  }
+
+  std::unique_ptr<Config> config_;  // on the heap: the engines keep a reference to its dsmc
+  std::uint64_t ensemble_ = 0;
+  std::unique_ptr<DsmcEnsemble> plain_;
+  std::unique_ptr<WeightedEnsemble> weighted_;
+  std::unique_ptr<GasEnsemble> gas_;
+};
+
+}  // namespace
+
+PYBIND11_MODULE(_core, m) {
+  m.doc() = "granboltz simulator in-process (use granboltz.simulate and granboltz.Simulation)";
+  install_gsl_error_handler();  // GSL errors become statuses, never abort()
+  static py::exception<ConfigError> config_error(m, "ConfigError", PyExc_ValueError);
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const ConfigError& e) {
+      config_error(e.what());
+    } catch (const RunCancelled& e) {
+      PyErr_SetString(PyExc_KeyboardInterrupt, e.what());
+    }
+  });
+  m.attr("kObservables") = [] {
+    py::list out;
+    for (const ObservableInfo& o : kObservables)
+      out.append(py::make_tuple(o.name, o.offset, o.rank, o.description));
+    return out;
+  }();
+  m.def("normalized_config", &normalized_config, py::arg("text"), py::arg("origin"));
+  m.def("run_file", &run_file, py::arg("text"), py::arg("origin"), py::arg("output"),
+        py::arg("threads"), py::arg("progress"), py::arg("command"));
+  py::class_<Simulation>(m, "Simulation")
+      .def(py::init<const std::string&, const std::string&, std::uint64_t>(), py::arg("text"),
+           py::arg("origin"), py::arg("ensemble"))
+      .def_static("restore", &Simulation::restore, py::arg("path"))
+      .def("save", &Simulation::save, py::arg("path"))
+      .def("advance", &Simulation::advance, py::arg("t"), py::arg("interruptible"))
+      .def_property_readonly("time", &Simulation::time)
+      .def_property_readonly("t_end", &Simulation::t_end)
+      .def_property_readonly("dimension", &Simulation::dimension)
+      .def_property_readonly("ensemble", &Simulation::ensemble)
+      .def_property_readonly("config_text", &Simulation::config_text)
+      .def_property_readonly("engine", &Simulation::engine)
+      .def_property_readonly("velocities", &Simulation::velocities)
+      .def_property_readonly("spins", &Simulation::spins)
+      .def_property_readonly("weights", &Simulation::weights)
+      .def_property_readonly("counts", &Simulation::counts)
+      .def("observe", &Simulation::observe);
+}
