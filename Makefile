@@ -25,9 +25,14 @@ build: $(BUILD)/CMakeCache.txt
 
 ## make python: install the Python package granboltz (src/python/granboltz) for Debian's
 ## /usr/bin/python3, editable (this source tree) and offline (Debian's pip and setuptools, no
-## PyPI); skipped when this tree's package is already the one imported
+## PyPI); skipped when this tree's package is already the one imported. The extension
+## granboltz._core is built by `make build` into $(BUILD)/python/granboltz/ and linked into
+## src/python/granboltz/ (gitignored); this target links it again for a BUILD of its own.
 PYTHON := /usr/bin/python3
 python:
+	@for so in $(BUILD)/python/granboltz/_core*.so; do \
+	  if [ -e "$$so" ]; then ln -sfn "$(abspath $(BUILD))/python/granboltz/$$(basename "$$so")" src/python/granboltz/; fi; \
+	done
 	@if cd / && $(PYTHON) -c "import granboltz, os, sys; sys.exit(os.path.realpath(granboltz.__path__[0]) != os.path.realpath('$(CURDIR)/src/python/granboltz'))" 2>/dev/null; then \
 	  echo "python: granboltz from $(CURDIR)/src/python is installed"; \
 	else \

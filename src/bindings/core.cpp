@@ -324,6 +324,8 @@ PYBIND11_MODULE(_core, m) {
   m.doc() = "granboltz simulator in-process (use granboltz.simulate and granboltz.Simulation)";
   install_gsl_error_handler();  // GSL errors become statuses, never abort()
   static py::exception<ConfigError> config_error(m, "ConfigError", PyExc_ValueError);
+  config_error.attr("__doc__") =
+      "A config the simulator refuses: the CLI's one-line message, naming the key.";
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
@@ -339,10 +341,15 @@ PYBIND11_MODULE(_core, m) {
       out.append(py::make_tuple(o.name, o.offset, o.rank, o.description));
     return out;
   }();
-  m.def("normalized_config", &normalized_config, py::arg("text"), py::arg("origin"));
-  m.def("run_file", &run_file, py::arg("text"), py::arg("origin"), py::arg("output"),
-        py::arg("threads"), py::arg("progress"), py::arg("command"));
-  py::class_<Simulation>(m, "Simulation")
+  m.def("normalized_config", &normalized_config,
+        "The config text validated by parse_config, every default explicit", py::arg("text"),
+        py::arg("origin"));
+  m.def("run_file", &run_file,
+        "Runs a config with run_to_file (as `granboltz run`); progress(fraction) or None",
+        py::arg("text"), py::arg("origin"), py::arg("output"), py::arg("threads"),
+        py::arg("progress"), py::arg("command"));
+  py::class_<Simulation>(m, "Simulation",
+                         "One DSMC ensemble's engine (use granboltz.Simulation)")
       .def(py::init<const std::string&, const std::string&, std::uint64_t>(), py::arg("text"),
            py::arg("origin"), py::arg("ensemble"))
       .def_static("restore", &Simulation::restore, py::arg("path"))

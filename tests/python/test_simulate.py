@@ -76,7 +76,9 @@ def test_the_extension_is_built():
     # No skip: without granboltz._core (make build) every test here fails, this one saying why.
     import granboltz._core  # noqa: F401
 
-    assert granboltz.simulate.__module__ == "granboltz.simulate"
+    from granboltz.simulate import simulate
+
+    assert callable(granboltz.simulate) and granboltz.simulate.simulate is simulate
     assert issubclass(granboltz.ConfigError, ValueError)
 
 
@@ -277,3 +279,14 @@ def test_sigint_pauses_advance_and_a_later_advance_gives_the_same_bits():
     sim.run()
     assert np.array_equal(sim.velocities, reference.velocities)
     assert sim.counts == reference.counts
+
+
+def test_the_example_of_docs_python_runs(capsys):
+    import re
+
+    text = (ROOT / "docs" / "python.md").read_text()
+    section = text[text.index("## Running from Python"):text.index("## Modules")]
+    code = re.search(r"^```python\n(.*?)^```$", section, flags=re.M | re.S).group(1)
+    exec(compile(code, "docs/python.md", "exec"), {})
+    lines = capsys.readouterr().out.splitlines()
+    assert len(lines) == 5 and lines[-1].startswith("2.0 ")

@@ -43,13 +43,11 @@ def __getattr__(name):
 
         return RunReadError
     if name in ("simulate", "Simulation", "ConfigError"):
-        # The compiled extension granboltz._core, loaded on first use. Importing the submodule
-        # granboltz.simulate binds that name to the module: the function takes it back (the
-        # module stays importable from sys.modules: `from granboltz.simulate import Simulation`).
+        # The compiled extension granboltz._core, loaded on first use. granboltz.simulate is the
+        # submodule (importing it binds the name anyway), which is callable as its function
+        # simulate().
         import importlib
 
         module = importlib.import_module(".simulate", __name__)
-        globals().update(simulate=module.simulate, Simulation=module.Simulation,
-                         ConfigError=module.ConfigError)
-        return globals()[name]
+        return module if name == "simulate" else getattr(module, name)
     raise AttributeError(f"module 'granboltz' has no attribute {name!r}")

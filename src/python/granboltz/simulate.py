@@ -13,8 +13,10 @@ docs/python.md, "Running from Python".
 import os
 import pathlib
 import shutil
+import sys
 import tempfile
 import threading
+import types
 
 import numpy as np
 import yaml
@@ -252,3 +254,13 @@ class Simulation:
         return (f"granboltz.Simulation(engine={self._sim.engine}, ensemble={self.ensemble}, "
                 f"n={len(self.velocities)}, d={self.dimension}, time={self.time!r}, "
                 f"t_end={self.t_end!r})")
+
+
+class _CallableModule(types.ModuleType):
+    """granboltz.simulate is this module: calling it calls simulate()."""
+
+    def __call__(self, config, output=None, threads=None, progress=True):
+        return simulate(config, output=output, threads=threads, progress=progress)
+
+
+sys.modules[__name__].__class__ = _CallableModule
