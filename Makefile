@@ -6,7 +6,7 @@ BUILD ?= build
 JOBS ?= 2
 PROFILE ?= config/quick.yaml
 
-.PHONY: all deps deps-browser build python test test-cpp test-python test-sanitize test-slurm fuzz reproduce check-tables paper bench bench-counters bench-peer sanitize clean
+.PHONY: all deps deps-browser build python test test-cpp test-python test-sanitize test-slurm docs fuzz reproduce check-tables paper bench bench-counters bench-peer sanitize clean
 
 all: build
 
@@ -50,6 +50,13 @@ test-python:
 	  echo "test-python: Chromium not installed: the browser test of the report is SKIPPED (make deps-browser)"; \
 	fi
 	CHROMIUM="$(CHROMIUM)" /usr/bin/python3 -m pytest -q -rs tests/python
+
+## make docs: the documentation site (Sphinx, furo, myst-parser; Debian packages) into
+## build/docs/html/ (open build/docs/html/index.html); warnings are errors
+DOCS_OUT ?= build/docs
+docs: deps
+	/usr/bin/python3 -m sphinx -b html -W --keep-going -q -d $(DOCS_OUT)/doctrees docs $(DOCS_OUT)/html
+	@echo "docs: $(DOCS_OUT)/html/index.html"
 
 ## make test-sanitize: the C++ suite built with AddressSanitizer + UndefinedBehaviorSanitizer
 ## (build-asan; every finding, leaks included, fails the test), without the tests labelled slow
