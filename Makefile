@@ -88,7 +88,7 @@ fuzz: build
 
 ## make bench: whole-run benchmarks (median of REPEAT runs, with the random-number floor) as a
 ## table and bench/results.csv, then the kernel benchmarks (Google Benchmark), then the tail depth
-## f/f(0) per CPU time of constant weights and SWPM (issue 11; bench/tail_depth.csv)
+## f/f(0) per CPU time of constant weights and SWPM (bench/tail_depth.csv)
 REPEAT ?= 5
 bench: build
 	$(BUILD)/bench/granboltz_bench --repeat $(REPEAT) --csv bench/results.csv

@@ -1,7 +1,7 @@
-"""The self-contained HTML report as a reader sees it: rendered in headless Chromium (issue 9,
-item 4). Without Selenium or Playwright: a copy of the page gets a script that inspects the
-rendered DOM on `load` and writes its findings as JSON into the page, and `chromium --headless
---dump-dom` returns that DOM. A screenshot of the summary is kept in pytest's tmp dir.
+"""The self-contained HTML report as a reader sees it: rendered in headless Chromium. Without
+Selenium or Playwright: a copy of the page gets a script that inspects the rendered DOM on `load`
+and writes its findings as JSON into the page, and `chromium --headless --dump-dom` returns that
+DOM. A screenshot of the summary is kept in pytest's tmp dir.
 
 Chromium is a Debian package (`chromium`) installed by `scripts/install-deps.sh --with-browser`
 (CI does). Where it is absent these tests skip and say so, unless GRANBOLTZ_REQUIRE_BROWSER=1
