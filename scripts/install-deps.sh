@@ -13,8 +13,10 @@ PACKAGES=(
   librandom123-dev
   snakemake python3-numpy python3-h5py python3-matplotlib python3-scipy python3-pytest
   python3-jsonschema python3-yaml python3-sympy python3-mpmath python3-setuptools python3-pip
-  python3-sphinx furo python3-myst-parser python3-nbclient python3-ipykernel python3-nbformat
 )
+# The documentation (`make docs`: Sphinx, furo, myst-parser) and the tutorial notebook's test
+# (tests/python/test_tutorial.py: nbclient, ipykernel, nbformat).
+PACKAGES+=(python3-sphinx furo python3-myst-parser python3-nbclient python3-ipykernel python3-nbformat)
 BROWSER_PACKAGES=(chromium)
 # --with-fuzz: AFL++ (and the clang it instruments with), for `make fuzz` only, never CI.
 FUZZ_PACKAGES=(afl++ clang)
