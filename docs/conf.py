@@ -83,8 +83,9 @@ PACKAGE_NAMES = ["read_run", "RunReadError", "simulate", "Simulation", "Run", "S
 
 
 def first_line(obj):
-    doc = inspect.getdoc(obj) or ""
-    return doc.strip().splitlines()[0] if doc.strip() else ""
+    """The first paragraph of obj's docstring, on one line."""
+    doc = (inspect.getdoc(obj) or "").strip()
+    return " ".join(doc.split("\n\n")[0].split())
 
 
 def package_page(modules):
@@ -199,13 +200,29 @@ def clean_rst(text):
     return stream.getvalue() == ""
 
 
+def escape_rst(text):
+    """`text` with the characters reStructuredText would read as markup escaped."""
+    for c in "\\*_|`":
+        text = text.replace(c, "\\" + c)
+    return text
+
+
 def docstring_as_text(app, what, name, obj, options, lines):
-    if not lines:
+    """A docstring docutils would complain about: its first paragraph as text when that alone is
+    clean (autosummary's one-line summary comes from it), the rest verbatim as a literal block."""
+    if not lines or clean_rst("\n".join(lines)):
         return
-    text = "\n".join(lines)
-    if clean_rst(text):
-        return
-    lines[:] = ["::", ""] + ["    " + line if line else "" for line in lines] + [""]
+    blank = next((i for i, line in enumerate(lines) if not line.strip()), len(lines))
+    head, rest = lines[:blank], lines[blank:]
+    if not clean_rst("\n".join(head)):
+        escaped = [escape_rst(line.strip()) for line in head]  # the paragraph as plain text
+        head = escaped if clean_rst("\n".join(escaped)) else []
+        rest = lines[blank:] if head else lines
+    body = [line for line in rest]
+    while body and not body[0].strip():
+        body.pop(0)
+    literal = ["::", ""] + ["    " + line if line else "" for line in body] + [""] if body else []
+    lines[:] = head + ([""] if head else []) + literal
 
 
 def setup(app):
