@@ -6,7 +6,7 @@ BUILD ?= build
 JOBS ?= 2
 PROFILE ?= config/quick.yaml
 
-.PHONY: all deps deps-browser build python test test-cpp test-python test-sanitize test-slurm fuzz reproduce check-tables paper bench bench-counters bench-peer sanitize clean
+.PHONY: all deps deps-browser build python test test-cpp test-python test-sanitize test-slurm docs fuzz reproduce check-tables paper bench bench-counters bench-peer sanitize clean
 
 all: build
 
@@ -56,6 +56,13 @@ test-python:
 	fi
 	CHROMIUM="$(CHROMIUM)" /usr/bin/python3 -m pytest -q -rs tests/python
 
+## make docs: the documentation site (Sphinx, furo, myst-parser; Debian packages) into
+## build/docs/html/ (open build/docs/html/index.html); warnings are errors
+DOCS_OUT ?= build/docs
+docs: deps
+	/usr/bin/python3 -m sphinx -b html -W --keep-going -q -d $(DOCS_OUT)/doctrees docs $(DOCS_OUT)/html
+	@echo "docs: $(DOCS_OUT)/html/index.html"
+
 ## make test-sanitize: the C++ suite built with AddressSanitizer + UndefinedBehaviorSanitizer
 ## (build-asan; every finding, leaks included, fails the test), without the tests labelled slow
 SANITIZE_BUILD ?= build-asan
@@ -86,7 +93,7 @@ fuzz: build
 
 ## make bench: whole-run benchmarks (median of REPEAT runs, with the random-number floor) as a
 ## table and bench/results.csv, then the kernel benchmarks (Google Benchmark), then the tail depth
-## f/f(0) per CPU time of constant weights and SWPM (issue 11; bench/tail_depth.csv)
+## f/f(0) per CPU time of constant weights and SWPM (bench/tail_depth.csv)
 REPEAT ?= 5
 bench: build
 	$(BUILD)/bench/granboltz_bench --repeat $(REPEAT) --csv bench/results.csv

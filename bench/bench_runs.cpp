@@ -85,7 +85,7 @@ const std::vector<Case> kCases = {
      peer("1e6", "1", "pairwise")},
 };
 
-// The peer problem against SPARTA (issue 12): SPARTA's serial NTC loop time per real collision
+// The peer problem against SPARTA: SPARTA's serial NTC loop time per real collision
 // for elastic hard spheres in one periodic cell, measured side by side on one machine
 // (SPARTA master; the lower end of each measured range). `make bench-peer` replaces them with a
 // SPARTA build's own figures (--sparta FILE: lines "n,ns_per_real_collision").
@@ -208,7 +208,7 @@ void print_peer_table(const std::map<std::string, double>& ns_real, const std::s
                       std::ofstream& csv) {
   std::map<double, double> sparta;
   for (const auto& row : kPeerRows) sparta[row.n] = row.sparta_ns;
-  std::string source = "reference figures of issue 12";
+  std::string source = "reference figures, SPARTA master measured side by side";
   if (!sparta_csv.empty()) {
     std::ifstream in(sparta_csv);
     double n, ns;

@@ -1,6 +1,6 @@
 #!/usr/bin/python3
-"""Tail depth per CPU time: constant weights against SWPM with importance splitting (issue 11,
-item 4; `make bench`).
+"""Tail depth per CPU time: constant weights against SWPM with importance splitting (how deep
+each reaches per CPU second; `make bench`).
 
 For GRW05 Examples 7-9 in their steady state (run to 2 t_end, histogram averaged in each ensemble
 over 20 times in (t_end, 2 t_end], as the workflow's SWPM runs), runs the simulator once with

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs granboltz's build and pipeline dependencies from Debian packages (no PyPI).
-# Shared by `make reproduce`, `make test` and CI. Skips apt when everything is present.
+# Shared by `make reproduce`, `make test`, `make docs` and CI (the Sphinx ones: `make docs`, and
+# nbclient/ipykernel: the tutorial notebook's test). Skips apt when everything is present.
 # --with-browser adds Chromium, for the browser test of the HTML report (tests/python/
 # test_report_browser.py): optional because it is large (124 MB download, 414 MB installed,
 # ~1 min), installed by CI (.ci/run) and by `make deps-browser`.
@@ -14,6 +15,9 @@ PACKAGES=(
   python3-jsonschema python3-yaml python3-sympy python3-mpmath python3-setuptools python3-pip
   pybind11-dev python3-pybind11 python3-dev python3-tqdm
 )
+# The documentation (`make docs`: Sphinx, furo, myst-parser) and the tutorial notebook's test
+# (tests/python/test_tutorial.py: nbclient, ipykernel, nbformat).
+PACKAGES+=(python3-sphinx furo python3-myst-parser python3-nbclient python3-ipykernel python3-nbformat)
 BROWSER_PACKAGES=(chromium)
 # --with-fuzz: AFL++ (and the clang it instruments with), for `make fuzz` only, never CI.
 FUZZ_PACKAGES=(afl++ clang)

@@ -1,4 +1,4 @@
-"""Beyond the papers (issue 14): theory, table builders, verdicts and the report section."""
+"""Beyond the papers: theory, table builders, verdicts and the report section."""
 
 import math
 

@@ -1,4 +1,4 @@
-"""Issue 10 in the workflow: the GRW05 Ex. 7 moment table against the exact hierarchy, the RW05
+"""The exact moments in the workflow: the GRW05 Ex. 7 moment table against the exact hierarchy, the RW05
 moment/Crit comparison, the local-exponent summary and verdicts, and their report sections."""
 
 import csv

@@ -1,4 +1,4 @@
-"""The package's shape, as issue 9 asks: every public name documented, small modules, thin
+"""The package's shape: every public name documented, small modules, thin
 workflow scripts, nothing heavy imported by `import granboltz`, and the golden-table check."""
 
 import importlib

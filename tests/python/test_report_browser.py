@@ -1,11 +1,15 @@
-"""The self-contained HTML report as a reader sees it: rendered in headless Chromium (issue 9,
-item 4). Without Selenium or Playwright: a copy of the page gets a script that inspects the
-rendered DOM on `load` and writes its findings as JSON into the page, and `chromium --headless
---dump-dom` returns that DOM. A screenshot of the summary is kept in pytest's tmp dir.
+"""The self-contained HTML report as a reader sees it: rendered in headless Chromium. Without
+Selenium or Playwright: a copy of the page gets a script that inspects the rendered DOM on `load`
+and writes its findings as JSON into the page, and `chromium --headless --dump-dom` returns that
+DOM. A screenshot of the summary is kept in pytest's tmp dir.
 
 Chromium is a Debian package (`chromium`) installed by `scripts/install-deps.sh --with-browser`
 (CI does). Where it is absent these tests skip and say so, unless GRANBOLTZ_REQUIRE_BROWSER=1
-(set by .ci/run), where its absence is a failure."""
+(set by .ci/run), where its absence is a failure.
+
+The documentation site (`make docs`, build/docs/html/index.html) is opened the same way: its title,
+its text and the pages it links to. Where it is not built that test skips, unless
+GRANBOLTZ_REQUIRE_BROWSER=1, where the site must exist."""
 
 import json
 import os
@@ -281,3 +285,37 @@ def test_every_repository_file_the_report_names_exists(report):
     assert named, f"{report} names no repository file"
     missing = sorted(p for p in named if not (ROOT / p).exists())
     assert not missing, f"{report} names files that do not exist: {missing}"
+
+
+# ----------------------------------------------------------------------------- the docs site
+DOCS_INDEX = ROOT / "build" / "docs" / "html" / "index.html"
+DOCS_PAGES = ["getting-started.html", "physics.html", "config.html", "output.html", "python.html", "api.html",
+              "tutorial-page.html", "workflow.html", "performance.html"]
+
+
+def test_the_docs_site_renders_in_chromium(tmp_path):
+    required = os.environ.get("GRANBOLTZ_REQUIRE_BROWSER") == "1"
+    if not DOCS_INDEX.is_file():
+        message = f"{DOCS_INDEX.relative_to(ROOT)} not built (make docs): the browser test of the docs did not run"
+        if required:
+            pytest.fail(message + "; GRANBOLTZ_REQUIRE_BROWSER=1 requires it")
+        pytest.skip(message)
+    chromium = find_chromium()
+    if chromium is None:
+        message = ("Chromium not installed: the browser test of the docs did not run "
+                   "(install it with `bash scripts/install-deps.sh --with-browser`)")
+        if required:
+            pytest.fail(message + "; GRANBOLTZ_REQUIRE_BROWSER=1 requires it")
+        pytest.skip(message)
+    dom = run_chromium(chromium, ["--dump-dom", DOCS_INDEX.as_uri()], tmp_path)
+    title = re.search(r"<title>(.*?)</title>", dom, re.S)
+    assert title and "granboltz" in title.group(1), f"title of {DOCS_INDEX}: {title and title.group(1)!r}"
+    text = re.sub(r"<[^>]+>", " ", re.sub(r"<(script|style)\b.*?</\1>", " ", dom, flags=re.S))
+    text = re.sub(r"\s+", " ", text)
+    for words in ("Boltzmann", "Getting started", "Python API reference", "Reproducing the papers"):
+        assert words in text, f"{DOCS_INDEX} as rendered does not say {words!r}"
+    hrefs = set(re.findall(r'href="([^"#?]+\.html)', dom))
+    missing = [page for page in DOCS_PAGES if page not in hrefs]
+    assert not missing, f"{DOCS_INDEX} does not link to {missing}"
+    broken = sorted(h for h in hrefs if "://" not in h and not (DOCS_INDEX.parent / h).is_file())
+    assert not broken, f"{DOCS_INDEX} links to pages that do not exist: {broken}"

@@ -197,7 +197,7 @@ def test_tail_exponent_script_recovers_b(run_script, tmp_path):
                      "duration": 2.0, "reduction": "energy", "radius": {"ex7": 40.0, "ex8": 40.0, "ex9": 40.0},
                      "split_radius": {"ex7": 4.0, "ex8": 4.0, "ex9": 4.0}, "max_rel_ci": 0.3}
     swpm = []
-    for ex, lam in ((7, 0.0), (8, 1.0), (9, 0.5)):  # the weighted-particle figures (issue 11), on the same histograms
+    for ex, lam in ((7, 0.0), (8, 1.0), (9, 0.5)):  # the weighted-particle figures, on the same histograms
         names = {k: str(tmp_path / f"swpm{ex}.{k}") for k in ("png", "pdf")}
         names["summary"] = str(tmp_path / f"swpm{ex}.json")
         steady = [str(write_fake_histogram_run(tmp_path / f"s{ex}.h5", lam=lam, b=1 + lam / 2, steady=True))]
@@ -221,7 +221,7 @@ def test_tail_exponent_script_recovers_b(run_script, tmp_path):
     run_script("tail_exponents.py", input={**runs, "local": local, "swpm": swpm},
                output={"csv": str(out), "windows": str(windows)}, params={"tails": tails})
     rows = _rows(out)
-    for r in rows:  # issue 11 columns; both runs are the same histogram, so both depths agree
+    for r in rows:  # the weighted-particle columns; both runs are the same histogram, so both depths agree
         assert float(r["depth_swpm"]) == float(r["depth_constant"]) and 0 < float(r["depth_swpm"]) < 1e-5
         assert float(r["b_swpm"]) == pytest.approx(float(r["theory_b"]), abs=0.05) and float(r["b_swpm_ci"]) > 0
     assert list(rows[0])[:7] == ["example", "kernel", "lambda", "theory_b", "b", "b_stderr", "fit_window"]

@@ -1,4 +1,4 @@
-"""granboltz.tail_swpm (issue 11): f(0) from the core, the resolved depth, effective counts, the
+"""granboltz.tail_swpm: f(0) from the core, the resolved depth, effective counts, the
 asymptotic b and a from a histogram with a known tail."""
 
 import numpy as np

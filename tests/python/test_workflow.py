@@ -28,11 +28,11 @@ ITEM_RULES = [
     *[f"rw05_{x}" for x in ("table1", "table2", "table3_euler", "table4_strang", "table5_nosplit", "table6",
                             "effort", "steady_replicas", "fig1", "fig2", "fig3", "fig4")],
     *[f"tv06_{x}" for x in ("fig1", "fig2", "fig3", "fig4", "fig5", "fig7", "fig8", "dsmc")],
-    # issue 10: exact moments and local tail exponents
+    # exact moments and local tail exponents
     "grw05_ex7_moments", "grw05_tail_local_ex7", "grw05_tail_local_ex8", "grw05_tail_local_ex9", "rw05_moments",
     "beyond_haff", "beyond_a2", "beyond_tail", "beyond_viscoelastic", "beyond_disks_a2", "beyond_mixture",
     "beyond_rough",
-    # issue 11: weighted particles
+    # weighted particles
     "grw05_tail_swpm_ex7", "grw05_tail_swpm_ex8", "grw05_tail_swpm_ex9", "grw05_tail_swpm_check",
 ]
 
@@ -70,10 +70,10 @@ def test_dry_run_plans_every_job(profile):
     assert counts.pop("grw05_shard", 0) == sum(k * shards[ex] for ex, k in grw05.items() if shards[ex] > 1)
     assert counts.pop("grw05_merge", 0) == sum(k for ex, k in grw05.items() if shards[ex] > 1)
     assert counts.pop("rw05_run") == counts.pop("rw05_run_config") == rw05
-    # issue 11: Examples 7-9 and the importance check
+    # weighted particles: Examples 7-9 and the importance check
     assert counts.pop("grw05_swpm_run") == counts.pop("grw05_swpm_run_config") == 4
     assert counts.pop("tv06_run") == counts.pop("tv06_run_config") == expected_tv06_runs(config)
-    b = config["beyond"]  # issue 14: 2 Haff runs, 2 thermostats x 2 kernels x alphas, the tail run if its own;
+    b = config["beyond"]  # beyond the papers: 2 Haff runs, 2 thermostats x 2 kernels x alphas, the tail run if its own;
     # one viscoelastic run per delta and the elastic one; 2 thermostats x the hard-disk alphas
     beyond = 2 + 4 * len(b["a2"]["alphas"]) + (b["tail"]["ensembles"] != b["a2"]["ensembles"])
     beyond += len(b["viscoelastic"]["deltas"]) + 1 + 2 * len(b["disks_a2"]["alphas"])

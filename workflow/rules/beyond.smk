@@ -1,4 +1,4 @@
-"""Beyond the papers (issue 14): free cooling (Haff's law), the homogeneous cooling state under
+"""Beyond the papers: free cooling (Haff's law), the homogeneous cooling state under
 the Gaussian thermostat and the white-noise steady state, against theory (docs/config.md,
 Thermostats); free cooling of viscoelastic spheres (docs/config.md, Restitution laws); hard
 disks in d = 2 (docs/config.md, Dimension and collision geometry).

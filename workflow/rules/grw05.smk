@@ -252,7 +252,7 @@ report_item("GRW05", "Fig. 4", rules.grw05_fig4, "figure", rules.grw05_fig4.outp
 
 
 # ----------------------------------------------------------------------------- local exponents
-# b(r) of each tail example, one job each (they run side by side; issue 10, items 3-4).
+# b(r) of each tail example, one job each (they run side by side).
 for _ex in ("ex7", "ex8", "ex9"):
 
     rule:
@@ -351,21 +351,21 @@ rule grw05_ex7_moments:
     benchmark:
         "benchmarks/tables/grw05_ex7_moments.tsv"
     params:
-        moments=8,  # M_2 ... M_16 against the exact hierarchy (issue 10)
-        pmax=40,  # the amplitude from the growth of M_2p up to p = 40 (issue 10: at least 30)
+        moments=8,  # M_2 ... M_16 against the exact hierarchy
+        pmax=40,  # the amplitude from the growth of M_2p up to p = 40 (at least 30 are needed)
     script:
         "../scripts/grw05_ex7_moments.py"
 
 
 report_item("GRW05", "Ex. 7 moments", rules.grw05_ex7_moments, "table", rules.grw05_ex7_moments.output.csv,
-            "(not in the paper; issue 10) M_2 … M_16 of the Example 7 final state against the exact moment hierarchy "
+            "(not in the paper) M_2 … M_16 of the Example 7 final state against the exact moment hierarchy "
             "for λ = 0, and the tail amplitude a = √(ν/β) from the growth of the exact moments",
             runs=rules.grw05_ex7_moments.input.runs, run_rule=rules.grw05_run, compare="ex7_moments",
             extra=[rules.grw05_ex7_moments.output.amplitude])
 for _ex, _b in (("ex7", "1"), ("ex8", "1.5"), ("ex9", "1.25")):
     _rule = getattr(rules, f"grw05_tail_local_{_ex}")
     report_item("GRW05", f"Tail local exponent Ex. {_ex[2:]}", _rule, "figure", _rule.output.png,
-                f"(not in the paper; issue 10) local exponent b(r) with its band against theory b = {_b}, the "
+                f"(not in the paper) local exponent b(r) with its band against theory b = {_b}, the "
                 "paper's window and where the data run out", runs=_rule.input.runs, run_rule=rules.grw05_run,
                 summary=_rule.output.summary)
 

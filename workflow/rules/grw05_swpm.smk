@@ -1,4 +1,4 @@
-"""GRW05 Examples 7-9 with weighted particles (SWPM; issue 11, GRW05 Remark 10): the deep tails.
+"""GRW05 Examples 7-9 with weighted particles (SWPM; GRW05 Remark 10): the deep tails.
 
 Raw runs:  results/grw05_swpm/<experiment>/N=<ensembles>/n=<particles>/run.h5 (dsmc.weights: swpm,
            kappa and max_particles of config grw05.tails.swpm, importance splitting beyond
@@ -93,7 +93,7 @@ rule grw05_swpm_run:
         "{input.granboltz} run {input.config} -o {output.h5} --threads {threads} > {log} 2>&1"
 
 
-# ln f against r for both methods and b(r) of both, one figure per example (issue 11, item 5).
+# ln f against r for both methods and b(r) of both, one figure per example.
 for _ex in SWPM_EXAMPLES:
 
     rule:
@@ -121,7 +121,7 @@ for _ex in SWPM_EXAMPLES:
 for _ex, _b in (("ex7", "1"), ("ex8", "1.5"), ("ex9", "1.25")):
     _rule = getattr(rules, f"grw05_tail_swpm_{_ex}")
     report_item(SWPM_PAPER, f"Tail Ex. {_ex[2:]}", _rule, "figure", _rule.output.png,
-                f"(not in the paper; issue 11, GRW05 Remark 10) ln f against r with weighted particles (SWPM) and "
+                f"(not in the paper; GRW05 Remark 10) ln f against r with weighted particles (SWPM) and "
                 f"constant weights, and b(r) of both against theory b = {_b}", runs=_rule.input.swpm,
                 run_rule=rules.grw05_swpm_run, summary=_rule.output.summary)
 
@@ -152,7 +152,7 @@ rule grw05_tail_swpm_check:
 
 report_item(SWPM_PAPER, "Importance check", rules.grw05_tail_swpm_check, "figure",
             rules.grw05_tail_swpm_check.output.png,
-            f"(not in the paper; issue 11) Example {SWPM['check']['example'][2:]} with an importance function of "
+            f"(not in the paper) Example {SWPM['check']['example'][2:]} with an importance function of "
             f"another shape (r^{SWPM['check']['power']:g} instead of the theory's): b and a must not depend on it",
             runs=rules.grw05_tail_swpm_check.input.check, run_rule=rules.grw05_swpm_run,
             summary=rules.grw05_tail_swpm_check.output.summary)

@@ -204,7 +204,7 @@ report_item("RW05", "Fig. 3", rules.rw05_fig3, "figure", rules.rw05_fig3.output.
             "no-splitting Crit(t) (eq. 29) for n = 256, 1024, 4096 (from below), N = 65536, 16384, 4096: grows from 0 to a positive steady value",
             runs=rules.rw05_fig3.input.runs, run_rule=rules.rw05_run, summary=rules.rw05_fig3.output.summary)
 report_item("RW05", "moments", rules.rw05_moments, "figure", rules.rw05_moments.output.png,
-            "(not in the paper; issue 10) ⟨|v − V|⁴⟩(t) and Crit(t) of the Fig. 3 runs against the exact curves of "
+            "(not in the paper) ⟨|v − V|⁴⟩(t) and Crit(t) of the Fig. 3 runs against the exact curves of "
             "the moment hierarchy (λ = 0), exact Crit(∞) = 0.11907",
             runs=rules.rw05_moments.input.runs, run_rule=rules.rw05_run, summary=rules.rw05_moments.output.summary,
             extra=[rules.rw05_moments.output.csv])

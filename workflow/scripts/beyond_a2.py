@@ -1,4 +1,4 @@
-"""Beyond the papers (issue 14): the Sonine coefficient a2(alpha) of the steady states of both
+"""Beyond the papers: the Sonine coefficient a2(alpha) of the steady states of both
 thermostats, side by side.  Gaussian thermostat: the homogeneous cooling state in scaled
 velocities; hard spheres against van Noije-Ernst's first-Sonine formula, Maxwell molecules
 against the exact HCS value of the moment hierarchy (granboltz.maxwell_hierarchy.hcs_a2).

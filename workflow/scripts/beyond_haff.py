@@ -1,4 +1,4 @@
-"""Beyond the papers (issue 14): Haff's law.  Free cooling (thermostat none) of Maxwell molecules,
+"""Beyond the papers: Haff's law.  Free cooling (thermostat none) of Maxwell molecules,
 T(t) = T0 e^{-gamma pi C (1 - alpha^2) t} exactly (GRW05 eq. 16 with beta = 0), and of hard
 spheres, T(t) = T0/(1 + t/t0)^2 with t0 from the cooling rate with the first-Sonine a2 of the HCS
 (granboltz.beyond.haff_temperature; both with the centred estimator's factor 1 - 1/n).

@@ -1,4 +1,4 @@
-"""Beyond the papers (issue 14): the tail of the homogeneous cooling state.  The local exponent
+"""Beyond the papers: the tail of the homogeneous cooling state.  The local exponent
 b(r) = 1 + d ln(-d_r ln f)/d ln r (granboltz.local_exponent, as for the tails of GRW05) of the
 scaled velocity distribution of hard spheres under the Gaussian thermostat, averaged over the
 steady observations, against the predicted exponential tail f ~ e^{-A c} (b = 1 for hard spheres

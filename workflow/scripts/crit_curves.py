@@ -3,7 +3,7 @@
 params.label = "n" (Fig. 3): no-splitting runs for several (n, N), one curve each ("from below"
 n = 256, 1024, 4096). params.label = "scheme" (Fig. 4): the no-splitting (thick), Strang and
 Euler runs (thin) at one n, N, K. params.exact (Fig. 3): also the exact Crit(t) and Crit(inf)
-of the moment hierarchy (lambda = 0; issue 10). Crit is eq. (29) of the ensemble means of the moments
+of the moment hierarchy (lambda = 0). Crit is eq. (29) of the ensemble means of the moments
 (granboltz.dsmc.crit_of_means: it starts from zero for the Maxwellian of eq. 26, as in the
 paper; the mean of the per-ensemble Crit, the simulator's /crit, carries a sampling bias of
 order 1/sqrt(n) and is only given in the summary). The summary gives Crit(t_end) +- ci.

@@ -1,7 +1,7 @@
 """GRW05 Example 7 (§5.3, lambda = 0): the speed moments M_2 ... M_2P of the final state against
-the exact moment hierarchy (issue 10, item 2; granboltz.moment_checks, maxwell_hierarchy).
+the exact moment hierarchy (granboltz.moment_checks, maxwell_hierarchy).
 
-P = params.moments (8: M_2 ... M_16, issue 10; the run may hold more).
+P = params.moments (8: M_2 ... M_16; the run may hold more).
 Output csv: p, exact (M_2p at t_end from the initial Maxwellian: the exact time-dependent value),
 ours (/moment_2p, ensemble mean), ci (its half-width, lambda_p = 3.2), sigma ((ours - exact)/se),
 exact_steady (the steady value; the difference shows how far the state has relaxed).

@@ -1,4 +1,4 @@
-"""RW05 Fig. 3 (§4.1) against the exact moment hierarchy (issue 10, item 2; lambda = 0).
+"""RW05 Fig. 3 (§4.1) against the exact moment hierarchy (lambda = 0).
 
 For each run of Fig. 3 (n, N): <|v - V|^4>(t) (/moment_4) relative to the exact M_4(t) and
 Crit(t) (crit_of_means) minus the exact Crit(t) (granboltz.maxwell_hierarchy), with their bands

@@ -9,7 +9,7 @@ example on every window of params.tails.windows and for both normalisations (WIN
 The exponent table also takes the local-exponent numbers of each example (input local: the
 summaries of rule grw05_tail_local_ex*, granboltz.tail_local; columns tails.LOCAL_COLUMNS) and the
 weighted-particle numbers (input swpm: the summaries of rule grw05_tail_swpm_ex*,
-granboltz.tail_swpm; columns tails.SWPM_COLUMNS; issue 11).
+granboltz.tail_swpm; columns tails.SWPM_COLUMNS).
 """
 
 import json

@@ -1,4 +1,4 @@
-"""GRW05 Examples 7-9 (§5.3): the local tail exponent b(r), free of the core's offset (issue 10).
+"""GRW05 Examples 7-9 (§5.3): the local tail exponent b(r), free of the core's offset.
 
 b(r) = 1 + d ln(-d_r ln f)/d ln r on sliding windows of pooled shells, with its band (z = 3.2,
 the delta method), against the theory b = 1 + lambda/2 (tail_theory) and against b(r) of the

@@ -1,4 +1,4 @@
-"""GRW05 Examples 7-9 with weighted particles (SWPM, issue 11): ln f against r for both methods, b(r).
+"""GRW05 Examples 7-9 with weighted particles (SWPM): ln f against r for both methods, b(r).
 
 Left panel: ln(f/f(0)) per shell with its confidence band (z = 3.2), SWPM and constant weights;
 filled markers are resolved shells (relative half-width below tails.swpm.max_rel_ci), open ones

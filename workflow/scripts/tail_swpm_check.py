@@ -1,4 +1,4 @@
-"""The importance check of the weighted-particle tails (issue 11): one GRW05 example run with the theory
+"""The importance check of the weighted-particle tails: one GRW05 example run with the theory
 tail as importance function and once with another shape (config grw05.tails.swpm.check).
 
 Left panel: ln f(r)/f(0) of both runs (resolved shells filled).  Right panel: the difference of the

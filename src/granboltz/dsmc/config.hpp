@@ -44,7 +44,7 @@ struct HistogramSpec {
 
 /// dsmc.weights: the stochastic weighted particle method (SWPM, Rjasanow & Wagner 1996/2005).
 enum class Reduction { kEnergy, kHeatFlux };
-/// dsmc.weights.split: importance splitting along the diffusion path (issue 11). Every `interval`
+/// dsmc.weights.split: importance splitting along the diffusion path. Every `interval`
 /// all particles are kicked to the current time; one beyond `radius` from V heavier than twice
 /// its target weight w*(r) = (1/n) (r/radius)^2 exp(-rate (r^power - radius^power)) is split into equal
 /// copies, and light ones (below w*/4) play pairwise roulette within a band of w*.

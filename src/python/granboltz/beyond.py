@@ -1,4 +1,4 @@
-"""Beyond the papers (issue 14): free cooling (Haff's law) and the homogeneous cooling state (HCS)
+"""Beyond the papers: free cooling (Haff's law) and the homogeneous cooling state (HCS)
 with the Gaussian thermostat, beside the white-noise steady state.  Theory, table rows and the
 computed verdicts of the report section "Beyond the papers" (viscoelastic free cooling:
 granboltz.viscoelastic; hard disks: granboltz.disks).

@@ -1,4 +1,4 @@
-r"""Local tail exponents from shell histograms, free of the core's offset (issue 10, item 4).
+r"""Local tail exponents from shell histograms, free of the core's offset.
 
 GRW05's eq. (38) fits ln(ln f_k0 - ln f_k), which carries the offset C' between the core and the
 tail (granboltz.tail_theory).  The estimators here only use ln f up to an additive constant:

@@ -1,4 +1,4 @@
-"""Simulated speed moments against the exact Maxwell hierarchy (issue 10, item 2).
+"""Simulated speed moments against the exact Maxwell hierarchy.
 
 GRW05 Example 7 (lambda = 0): M_2p = <|v - V|^2p>, p = 1..P, of the final state (the simulator's
 /moment_2p, docs/output.md) against the exact time-dependent value at t_end (and the steady one)

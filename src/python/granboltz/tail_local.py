@@ -1,4 +1,4 @@
-"""The local-exponent analysis of one GRW05 tail example (Examples 7-9; issue 10, items 3-5).
+"""The local-exponent analysis of one GRW05 tail example (Examples 7-9).
 
 local_tail_summary joins granboltz.local_exponent (b(r) with its band, how far the data reach)
 and granboltz.tail_theory (a, b to leading order; the eq. 38 slope a given core offset implies):

@@ -1,4 +1,4 @@
-"""Deep tails of GRW05 Examples 7-9 with weighted particles (SWPM, issue 11) against constant weights.
+"""Deep tails of GRW05 Examples 7-9 with weighted particles (SWPM) against constant weights.
 
 A run's histogram (docs/output.md) holds per shell the fraction of the mass (constant weights: the
 fraction of particles; SWPM: the summed weight, mean and confidence half-width over ensembles from
@@ -8,7 +8,7 @@ the exact sums at /accumulators/histogram_weight) and the particle count.  Both 
 * shell_profile: f(r)/f(0) per shell (f = fraction / shell volume, f(0) from a fit to the core)
   with its relative confidence half-width (z = 3.2, the project's lambda_p);
 * resolved_depth: the smallest f/f(0) of a shell whose relative half-width is below max_rel_ci
-  (issue 11: 30 %), and the radius of that shell;
+  (the goal: 30 %), and the radius of that shell;
 * swpm_tail_summary: the depth, the local exponent b(r) far out (local_exponent.far_estimate), and
   the asymptotic b and a with confidence half-widths from one fit of ln f = c + chi ln r - a r^b
   (local_exponent.tail_fit, b free, chi free) on the pooled bins from f/f(0) < tail_from out to

@@ -1,4 +1,4 @@
-"""The report section "Beyond the papers" (issue 14): Haff's law, the Sonine coefficient a2(alpha)
+"""The report section "Beyond the papers": Haff's law, the Sonine coefficient a2(alpha)
 of the homogeneous cooling state (Gaussian thermostat) and of the white-noise steady state, the
 HCS tail, viscoelastic free cooling, a2 and a3 of hard disks (d = 2), T1/T2 of a binary mixture,
 theta of rough spheres; and the comparisons of its seven tables (registered in document.COMPARE)."""

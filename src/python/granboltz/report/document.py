@@ -169,11 +169,11 @@ def build_document(items, data, config, machine, profile):
         blocks, rows = paper_section(paper, items, data)
         body += blocks
         summary += rows
-    if any(it["paper"] == BEYOND for it in items):  # issue 14: after the papers
+    if any(it["paper"] == BEYOND for it in items):  # the section Beyond the papers: after the papers
         blocks, rows = beyond_section(items, data, item_blocks)
         body += blocks
         summary += rows
-    if any(it["paper"] == SWPM for it in items):  # issue 11: weighted particles, after the papers
+    if any(it["paper"] == SWPM for it in items):  # weighted particles, after the papers
         blocks, rows = swpm_section(items, data, item_blocks)
         body += blocks
         summary += rows

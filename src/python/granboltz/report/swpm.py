@@ -1,4 +1,4 @@
-"""The report section "Weighted particles" (issue 11, GRW05 Remark 10): the deep tails of Examples
+"""The report section "Weighted particles" (GRW05 Remark 10): the deep tails of Examples
 7-9 with SWPM against constant weights, the table of b, a and the depth per example against theory,
 and one verdict per example (granboltz.tail_swpm.swpm_verdict)."""
 
@@ -22,7 +22,7 @@ INTRO = ("GRW05 Remark 10 suggests a weighted-particle scheme (SWPM) for the tai
          "`granboltz.local_exponent.tail_fit`) on the pooled shells from f/f(0) < tails.local.tail_from out to "
          "where the resolved profile ends. Its half-widths treat the shells as independent, but the particles of one "
          "ensemble's shells share ancestors, so they understate the spread; the importance check below (two "
-         "independent runs of Example 7) shows by how much. Goal (issue 11): b within 0.03 of theory with a half-width ≤ 0.03 "
+         "independent runs of Example 7) shows by how much. Goal: b within 0.03 of theory with a half-width ≤ 0.03 "
          "and a within 5 % of √(ν_λ/β)/b. The constant-weight column is the final state of the n = 10⁷ runs of "
          "GRW05 §5.3 (see Provenance for both costs).")
 WHY = ("**Why splitting, and why along the path.** SWPM by itself splits weight only at collisions: a collision "

@@ -1,6 +1,6 @@
 """Report section of the GRW05 §5.3 tail exponents: ours against theory and the paper, and b
 for every fit window; the offset-free local exponents and the theory a, b per example; the speed
-moments of Example 7 against the exact hierarchy (issue 10)."""
+moments of Example 7 against the exact hierarchy."""
 
 import math
 
@@ -75,7 +75,7 @@ def compare_tails(name, ours, published, extra=(), **_):
 
 def local_blocks(ours):
     """Theory a, b per example, the offset-free local exponent where the data reach, and the eq. (38)
-    slope the theory tail with the measured core offset gives on the fit window (issue 10)."""
+    slope the theory tail with the measured core offset gives on the fit window."""
     header = ["example", "theory b", "b(r) far ± ci", "at r (r/√T, f/f(0))", "b(r) expected there",
               "a theory", "a fit (b fixed) ± ci", "χ", "offset C′", "eq. (38) b expected", "eq. (38) b ours"]
     rows, verdicts = [], []
@@ -89,7 +89,7 @@ def local_blocks(ours):
                      f"{s['chi_fit']:.2f}", f"{s['offset']:.2f}", f"{s['b_eq38_expected']:.3f}",
                      f"{fl(r['b']):.3f}"])
         verdicts.append(f"Example {r['example']}: " + local_verdict(s))
-    return [("p", "Theory and the offset-free local exponent (issue 10). Theory: b = 1 + λ/2, a = √(ν_λ/β)/b "
+    return [("p", "Theory and the offset-free local exponent. Theory: b = 1 + λ/2, a = √(ν_λ/β)/b "
                   "(`granboltz.tail_theory`; for λ = 0 checked against the growth of the exact moments, see "
                   "GRW05 Ex. 7 moments). b(r) = 1 + d ln(−∂_r ln f)/d ln r on sliding windows of pooled shells "
                   "(figures 'Tail local exponent'); 'far' is the outermost window whose band is within the "
