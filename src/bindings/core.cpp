@@ -1,5 +1,5 @@
 // granboltz._core: the simulator in-process for Python (granboltz.simulate, granboltz.Simulation;
-// the Python side is src/python/granboltz/simulate.py). Whole runs go through run_to_file, as
+// the Python side is src/python/granboltz/inprocess.py). Whole runs go through run_to_file, as
 // `granboltz run` does; Simulation wraps the engine of one DSMC ensemble.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>

@@ -76,9 +76,9 @@ def test_the_extension_is_built():
     # No skip: without granboltz._core (make build) every test here fails, this one saying why.
     import granboltz._core  # noqa: F401
 
-    from granboltz.simulate import simulate
+    from granboltz.inprocess import simulate
 
-    assert callable(granboltz.simulate) and granboltz.simulate.simulate is simulate
+    assert granboltz.simulate is simulate
     assert issubclass(granboltz.ConfigError, ValueError)
 
 

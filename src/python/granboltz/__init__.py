@@ -25,7 +25,7 @@ Modules, one concern each (import the one you need; nothing heavy is imported he
     plotting     matplotlib with the house style, reproducible figure files
     files        atomic CSV/text/JSON writing
     report       the reproduction report (subpackage)
-    simulate     the simulator in this process (extension granboltz._core): simulate, Simulation,
+    inprocess    the simulator in this process (extension granboltz._core): simulate, Simulation,
                  ConfigError, also on the package itself
 """
 
@@ -43,11 +43,8 @@ def __getattr__(name):
 
         return RunReadError
     if name in ("simulate", "Simulation", "ConfigError"):
-        # The compiled extension granboltz._core, loaded on first use. granboltz.simulate is the
-        # submodule (importing it binds the name anyway), which is callable as its function
-        # simulate().
+        # The compiled extension granboltz._core, loaded on first use (module granboltz.inprocess).
         import importlib
 
-        module = importlib.import_module(".simulate", __name__)
-        return module if name == "simulate" else getattr(module, name)
+        return getattr(importlib.import_module(".inprocess", __name__), name)
     raise AttributeError(f"module 'granboltz' has no attribute {name!r}")

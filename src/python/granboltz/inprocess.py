@@ -16,7 +16,6 @@ import shutil
 import sys
 import tempfile
 import threading
-import types
 
 import numpy as np
 import yaml
@@ -254,13 +253,3 @@ class Simulation:
         return (f"granboltz.Simulation(engine={self._sim.engine}, ensemble={self.ensemble}, "
                 f"n={len(self.velocities)}, d={self.dimension}, time={self.time!r}, "
                 f"t_end={self.t_end!r})")
-
-
-class _CallableModule(types.ModuleType):
-    """granboltz.simulate is this module: calling it calls simulate()."""
-
-    def __call__(self, config, output=None, threads=None, progress=True):
-        return simulate(config, output=output, threads=threads, progress=progress)
-
-
-sys.modules[__name__].__class__ = _CallableModule
