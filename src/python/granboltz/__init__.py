@@ -24,8 +24,8 @@ Modules, one concern each (import the one you need; nothing heavy is imported he
     rough        rough spheres: the Maxwellian theta = T_rot/T_tr of the HCS and white noise
     plotting     matplotlib with the house style, reproducible figure files
     files        atomic CSV/text/JSON writing
-    study        parameter studies: a grid over a base config run through Snakemake, Study.table()
-                 (python -m granboltz.study run STUDY.yaml)
+    study, study_table   parameter studies: a grid over a base config run through Snakemake
+                 (python -m granboltz.study run STUDY.yaml); Study(folder).table()
     report       the reproduction report (subpackage)
 """
 
@@ -40,7 +40,7 @@ def __getattr__(name):
 
         return read_run
     if name == "Study":
-        from .study import Study
+        from .study_table import Study
 
         return Study
     if name == "RunReadError":
