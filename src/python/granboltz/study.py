@@ -8,7 +8,7 @@ non-empty list of values; the points are their Cartesian product):
            kernel: {lambda: 1, C: 0.0795774715459477}, t_end: 4, observe_every: 0.5, steady_from: 1}}
     grid: {dsmc.alpha: [0.5, 0.8], dsmc.kernel.lambda: [0.0, 1.0]}
 
-    python -m granboltz.study run scan.yaml [--cores N] [--profile workflow/profiles/slurm] [--into DIR]
+    python -m granboltz.study run scan.yaml [--cores N] [--profile workflow/profiles/slurm] [--into DIR] [-- SNAKEMAKE ARGS]
     python -m granboltz.study table scan.yaml [--into DIR]
 
 `run` writes, under the current directory (or DIR), the folder studies/<study>/ with
@@ -265,12 +265,14 @@ def main(argv=None):
     p_table.add_argument("study", help="the study file or its folder studies/<study>")
     p_table.add_argument("--into", help="the folder that holds studies/ (default: the current one)")
     p_table.add_argument("--csv", action="store_true", help="print CSV instead of the aligned table")
-    args, extra = parser.parse_known_args(argv)
-    if extra and (args.command != "run" or extra[0] != "--"):
-        parser.error(f"unrecognized arguments: {' '.join(extra)}")
+    argv = list(sys.argv[1:] if argv is None else argv)
+    extra = argv[argv.index("--") + 1:] if "--" in argv else []  # run ... -- SNAKEMAKE ARGS
+    args = parser.parse_args(argv[:len(argv) - len(extra) - 1] if "--" in argv else argv)
+    if extra and args.command != "run":
+        parser.error("only run passes arguments after -- to Snakemake")
     try:
         if args.command == "run":
-            run(args.study, cores=args.cores, profile=args.profile, into=args.into, extra=extra[1:])
+            run(args.study, cores=args.cores, profile=args.profile, into=args.into, extra=extra)
         else:
             from .study_table import Study
 
