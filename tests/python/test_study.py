@@ -228,3 +228,20 @@ def test_the_hash_is_of_the_canonical_config():
     assert [v for _, v, _ in points] == [{"dsmc.alpha": a, "dsmc.kernel.lambda": l}
                                           for a in (0.5, 0.8) for l in (0.0, 1.0)]
     assert BASE["dsmc"]["alpha"] == 0.8 and not math.isnan(points[0][2]["dsmc"]["alpha"])  # base untouched
+
+
+def test_the_studies_section_of_the_docs_runs_as_written(tmp_path):
+    need_binary()
+    from test_docs_python import DOC, code_blocks
+
+    blocks = code_blocks(DOC.read_text(), "## Studies")
+    assert [lang for lang, _, _ in blocks] == ["yaml", "sh", "python"]
+    (_, info, study), (_, _, python) = blocks[0], blocks[2]
+    (tmp_path / info.removeprefix("file=")).write_text(study)
+    assert gs.load_study(tmp_path / "scan.yaml")["grid"] == GRID  # the example is the tests' grid
+    env = dict(os.environ, GRANBOLTZ_BIN=BINARY,
+               PYTHONPATH=os.pathsep.join([str(ROOT / "src" / "python"), os.environ.get("PYTHONPATH", "")]))
+    out = subprocess.run([sys.executable, "-c", python], cwd=tmp_path, env=env, capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    printed = out.stdout.splitlines()
+    assert printed[-5].split() == ["dsmc.alpha", "a2", "a2_ci"] and len(printed[-4:]) == 4
