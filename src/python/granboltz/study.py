@@ -213,8 +213,8 @@ def snakemake_command(folder, targets, binary, cores=None, profile=None, extra=(
            "--snakefile", str(SNAKEFILE), "--directory", str(folder),
            "--config", f"granboltz={binary}",
            "--rerun-triggers", "mtime"]  # only a point file newer than its run (it is rewritten only when changed)
-    if profile is not None:
-        cmd += ["--profile", str(pathlib.Path(profile).absolute())]
+    if profile is not None:  # a folder (made absolute: Snakemake runs in the study folder) or a profile name
+        cmd += ["--profile", str(pathlib.Path(profile).absolute()) if pathlib.Path(profile).exists() else profile]
     if cores is not None or profile is None:
         cmd += ["--cores", str(cores if cores is not None else 1)]
     return cmd + list(extra) + list(targets)
@@ -256,7 +256,8 @@ def main(argv=None):
     parser = argparse.ArgumentParser(prog="python -m granboltz.study",
                                      description="Parameter studies of granboltz runs (see docs/python.md, Studies).")
     sub = parser.add_subparsers(dest="command", required=True)
-    p_run = sub.add_parser("run", help="write the study folder and run the points without a run")
+    p_run = sub.add_parser("run", help="write the study folder and run the points without a run",
+                           epilog="Arguments after -- go to Snakemake, e.g. -- --default-resources partition=NAME.")
     p_run.add_argument("study", help="the study file (YAML: study, base, grid)")
     p_run.add_argument("--cores", type=int, help="local cores for Snakemake (default 1; with --profile as the profile says)")
     p_run.add_argument("--profile", help="a Snakemake profile folder, e.g. workflow/profiles/slurm")
@@ -288,7 +289,8 @@ def main(argv=None):
         print(f"granboltz.study: error: {e}", file=sys.stderr)
         return 2
     except subprocess.CalledProcessError as e:
-        print(f"granboltz.study: error: Snakemake failed (status {e.returncode}); see its output above", file=sys.stderr)
+        print(f"granboltz.study: error: Snakemake failed (status {e.returncode}); see its output above and the "
+              "simulator's in studies/<study>/logs/", file=sys.stderr)
         return 1
     return 0
 

@@ -14,6 +14,7 @@ import yaml
 
 from .study import StudyError, _get, load_study, study_folder
 
+
 class Study:
     """A study folder (studies/<study>/) as run() wrote it. `path`: the folder, or the study file
     (its folder is studies/<study> under `into`, default the current directory).
