@@ -5,8 +5,9 @@
 # folder (own ports and munge socket: nothing system-wide is touched), runs the quick profile's
 # GRW05 tail shards, their merges and the tail-exponent table through the profile, preempts one
 # shard job on purpose (SIGTERM: it writes its checkpoint, fails, is resubmitted and resumes),
-# runs the same targets locally, checks that the results are identical bit for bit, and stops
-# everything it started.
+# runs the same targets locally, checks that the results are identical bit for bit, runs a study
+# of two points (python -m granboltz.study run --profile) through the profile and locally and
+# compares them, and stops everything it started.
 #
 # Exit codes: 0 passed; 1 failed; 77 this machine cannot host SLURM (reason on stderr).
 # Needs root (apt-get and the daemons). KEEP=1 keeps the temporary folder.
@@ -216,5 +217,44 @@ for f in "$WORK"/local/results/grw05/*/N=*/n=*/{run,shard=*}.h5 "${TARGETS[@]/#/
 done
 /usr/bin/python3 "$ROOT/scripts/compare_outputs.py" "${pairs[@]}" | sed "s|$WORK/||g" ||
   fail "SLURM and local results differ"
-say "PASSED: merged runs, shards and tables identical to the local run, one preempted job resumed"
+# ------------------------------------------------------------------------------ a study
+# granboltz.study through the same profile, from a folder outside the repository: a study of two
+# points is two sbatch jobs of the study's own Snakefile, a second call submits nothing, and the
+# runs are identical to those of the same study run locally.
+mkdir -p "$WORK/study"
+cat >"$WORK/study/pair.yaml" <<'EOF'
+study: pair
+base: {model: dsmc, seed: 5, ensembles: 4, dsmc: {particles: 200, alpha: 0.8, beta: 1,
+       kernel: {lambda: 1, C: 0.0795774715459477}, t_end: 2, observe_every: 0.5, steady_from: 1}}
+grid: {dsmc.alpha: [0.5, 0.8]}
+EOF
+STUDY=(env GRANBOLTZ_BIN="$ROOT/build/granboltz" PYTHONPATH="$ROOT/src/python" /usr/bin/python3 -m granboltz.study)
+SLURM_STUDY=(run pair.yaml --into slurm --profile "$ROOT/workflow/profiles/slurm"
+  -- --default-resources mem_mb=1000 runtime=30 partition=test --latency-wait 5)
+say "a study of 2 points through the profile into $WORK/study/slurm (python -m granboltz.study run --profile)"
+t0=$(date +%s)
+(cd "$WORK/study" && "${STUDY[@]}" "${SLURM_STUDY[@]}") >"$WORK/log/study.log" 2>&1 ||
+  fail "the study through the profile failed (see $WORK/log/study.log)"
+submitted=$(grep -c 'Submitted job' "$WORK/log/study.log" || true)
+[ "$submitted" -eq 2 ] || fail "the study made $submitted submissions, not 2 (see $WORK/log/study.log)"
+say "study through SLURM: $(($(date +%s) - t0)) s, $submitted submissions"
+(cd "$WORK/study" && "${STUDY[@]}" "${SLURM_STUDY[@]}") >"$WORK/log/study-again.log" 2>&1 ||
+  fail "the second study call failed (see $WORK/log/study-again.log)"
+grep -q 'nothing to run' "$WORK/log/study-again.log" && ! grep -q 'Submitted job' "$WORK/log/study-again.log" ||
+  fail "the second study call ran something (see $WORK/log/study-again.log)"
+(cd "$WORK/study" && "${STUDY[@]}" run pair.yaml --into local --cores "$CPUS") >"$WORK/log/study-local.log" 2>&1 ||
+  fail "the local study run failed (see $WORK/log/study-local.log)"
+[ -d "$WORK/study/slurm/studies/pair/logs/slurm" ] || fail "no job logs in the study folder"
+[ "$(cd "$WORK/study" && echo *)" = "local pair.yaml slurm" ] || fail "the study wrote outside its folders"
+pairs=()
+for f in "$WORK"/study/local/studies/pair/runs/*.h5; do pairs+=("$f" "$WORK/study/slurm/${f#"$WORK/study/local/"}"); done
+[ ${#pairs[@]} -eq 4 ] || fail "the local study has $((${#pairs[@]} / 2)) runs, not 2"
+/usr/bin/python3 "$ROOT/scripts/compare_outputs.py" "${pairs[@]}" | sed "s|$WORK/||g" ||
+  fail "the study's runs through SLURM and local differ"
+rows=$(cd "$WORK/study" && "${STUDY[@]}" table pair.yaml --into slurm --csv | wc -l) || fail "the study table failed"
+[ "$rows" -eq 3 ] || fail "the study table has $rows lines, not a header and 2 rows"
+say "the study's 2 points ran as SLURM jobs, a second call submitted nothing, runs identical to local"
+
+say "PASSED: merged runs, shards and tables identical to the local run, one preempted job resumed," \
+  "a study of 2 points through the profile"
 STATUS=0

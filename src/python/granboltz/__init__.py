@@ -24,6 +24,8 @@ Modules, one concern each (import the one you need; nothing heavy is imported he
     rough        rough spheres: the Maxwellian theta = T_rot/T_tr of the HCS and white noise
     plotting     matplotlib with the house style, reproducible figure files
     files        atomic CSV/text/JSON writing
+    study, study_table   parameter studies: a grid over a base config run through Snakemake
+                 (python -m granboltz.study run STUDY.yaml); Study(folder).table()
     report       the reproduction report (subpackage)
     inprocess    the simulator in this process (extension granboltz._core): simulate, Simulation,
                  ConfigError, also on the package itself
@@ -33,11 +35,16 @@ __version__ = "0.1.0"
 
 
 def __getattr__(name):
-    # read_run and RunReadError on the package itself, imported on first use (h5py, yaml).
+    # read_run, RunReadError and Study on the package itself, imported on first use (h5py, yaml;
+    # pandas for Study.table).
     if name == "read_run":
         from .run import read_run
 
         return read_run
+    if name == "Study":
+        from .study_table import Study
+
+        return Study
     if name == "RunReadError":
         from .io import RunReadError
 
