@@ -7,6 +7,7 @@
 #include "granboltz/core/hot.hpp"
 #include "granboltz/dsmc/particles_io.hpp"
 #include "granboltz/physics/geometry.hpp"
+#include "granboltz/physics/heating.hpp"
 #include "granboltz/physics/restitution/laws.hpp"
 #include "granboltz/random/samplers.hpp"
 #include "granboltz/record/engine_io.hpp"
@@ -29,6 +30,12 @@ Vec3 normals(int d, E& eng) {
     return {a, b, 0.0};
   }
   return normal3(eng);
+}
+
+// White noise over a time s (physics/heating.hpp): translational velocities only.
+template <class E>
+Vec3 kick(int d, Vec3 v, double beta, double s, E& eng) {
+  return d == 2 ? white_noise_kick_2d(v, beta, s, eng) : white_noise_kick(v, beta, s, eng);
 }
 
 // d_rot: the rotational degrees of freedom of a rough particle.
@@ -250,8 +257,8 @@ bool GasEnsemble::events(double s_end, const std::atomic<bool>* pause, bool kick
     Particle& A = p_[i];
     Particle& B = p_[j];
     if (kicks) {  // white noise on the translational velocities, up to the event time
-      A.v += std::sqrt(2.0 * beta * (t_ - A.t)) * normals(c_.dimension, ev);
-      B.v += std::sqrt(2.0 * beta * (t_ - B.t)) * normals(c_.dimension, ev);
+      A.v = kick(c_.dimension, A.v, beta, t_ - A.t, ev);
+      B.v = kick(c_.dimension, B.v, beta, t_ - B.t, ev);
       A.t = B.t = t_;
       counts.kicks += 2;
       adapt(pc.a, A.v);
@@ -315,7 +322,7 @@ bool GasEnsemble::events(double s_end, const std::atomic<bool>* pause, bool kick
 void GasEnsemble::kick_all_to(double s) {
   if (heated_) {
     for (auto& q : p_) {
-      q.v += std::sqrt(2.0 * c_.beta * (s - q.t)) * normals(c_.dimension, sweep_);
+      q.v = kick(c_.dimension, q.v, c_.beta, s - q.t, sweep_);
       q.t = s;
     }
     counts_.kicks += p_.size();
