@@ -58,7 +58,7 @@ dsmc:
   beta: 0.125
   gamma: 4
   kernel: {lambda: 1, C: 0.0795774715459477}
-  t_end: 20
+  t_end: 200
   observe_every: 0.5
 )";
 
@@ -91,7 +91,8 @@ std::string make_checkpoint(const TempDir& dir, const std::string& cfg, const st
       spawn_granboltz({"run", cfg, "-q", "--threads", std::to_string(threads), "-o", out});
   const std::string ckpt = out + ".checkpoint";
   const bool written = wait_for_file(ckpt, 30);
-  std::this_thread::sleep_for(std::chrono::milliseconds(150));
+  // At once: a fast machine on two threads finishes a short run (and removes its checkpoint)
+  // within a few hundred milliseconds.
   ::kill(pid, SIGTERM);
   waitpid(pid, nullptr, 0);
   EXPECT_TRUE(written);
@@ -246,7 +247,7 @@ TEST(HostilePaths, ASecondRunOnTheSameOutputIsRefusedWhileTheFirstRuns) {
   TempDir dir;
   const std::string cfg = dir.write("long.yaml", kLong), out = dir.file("out.h5");
   const pid_t first = spawn_granboltz({"run", cfg, "-q", "--set", "checkpoint.every_seconds=0",
-                                       "--set", "ensembles=4", "--set", "dsmc.t_end=6", "-o", out});
+                                       "--set", "ensembles=4", "-o", out});
   // The first run's temporary output exists (and is locked) from its start.
   bool started = false;
   for (int i = 0; i < 500 && !started; ++i) {
@@ -286,17 +287,19 @@ TEST(HostileSignals, SigintDuringCheckpointWritesLeavesNoTemporaryFile) {
   for (int trial = 0; trial < 8; ++trial) {
     TempDir dir;
     const std::string cfg = dir.write("long.yaml", kLong), out = dir.file("out.h5");
+    // Long enough that no machine finishes it before the signal, on any number of threads.
     const pid_t pid = spawn_granboltz({"run", cfg, "-q", "--set", "checkpoint.every_seconds=0.001",
-                                       "-o", out});
+                                       "--set", "dsmc.t_end=2000", "-o", out});
     std::this_thread::sleep_for(
         std::chrono::milliseconds(std::uniform_int_distribution<int>(200, 700)(pick)));
     ::kill(pid, SIGINT);
     int status = 0;
     waitpid(pid, &status, 0);
-    interrupted += WIFEXITED(status) && WEXITSTATUS(status) == 128 + SIGINT;
+    const bool stopped = WIFEXITED(status) && WEXITSTATUS(status) == 128 + SIGINT;
+    interrupted += stopped;
     for (const auto& name : listing(dir))
       EXPECT_EQ(name.find(".tmp."), std::string::npos) << "trial " << trial << ": " << name;
-    EXPECT_FALSE(fs::exists(out));
+    if (stopped) EXPECT_FALSE(fs::exists(out)) << "trial " << trial;
   }
   EXPECT_GE(interrupted, 6);
 }
