@@ -64,10 +64,13 @@ def test_report_section_renders_with_its_verdicts():
                 "published": None, "published_source": ""}])
     tail = _csv([{"alpha": 0.3, "r": 5.0, "b": 1.05, "ci_b": 0.1, "at_bound": 0, "max_ci": 0.2}])
     assert compare_beyond_haff("beyond_haff", haff)[1].startswith("agrees")
-    assert "white noise, hard spheres agrees" in compare_beyond_a2("beyond_a2", a2)[1]
+    # hard spheres only: a comparison with approximations, whatever the difference
+    short = compare_beyond_a2("beyond_a2", a2)[1]
+    assert short.kind == "approximation" and "(α 0.5: +0.0510 ± 0.0020 vs +0.0500)" in short
     assert compare_beyond_tail("beyond_hcs_tail", tail)[1].startswith("agrees")
     far = _csv([{"alpha": 0.3, "r": 5.0, "b": 1.6, "ci_b": 0.1, "at_bound": 0, "max_ci": 0.2}])
-    assert compare_beyond_tail("beyond_hcs_tail", far)[1].startswith("check: still above")
+    short = compare_beyond_tail("beyond_hcs_tail", far)[1]
+    assert short.kind == "approximation" and "still above b = 1 where the data end" in short
     items = [{"paper": "Beyond the papers", "item": name, "rule": "beyond_x", "kind": "table", "output": path,
               "what": "w", "runs": [], "benchmarks": ["benchmarks/x.tsv"], "compare": cmp, "published": None, "summary": None, "extra": []}
              for name, path, cmp in (("Haff", "results/tables/beyond_haff.csv", "beyond_haff"),

@@ -23,8 +23,8 @@ SHORTS = {
     "agrees within the statistics (max 2.0σ); published n = 64 is +3.6σ from the exact expectation": "questioned",
     "errors agree within the statistics (max 1.1σ); Conf_end differs by a constant factor ≈ 8.5, same CF":
         "questioned",
-    "generated (no published numbers to compare)": "none",
-    "from Crit(0) ≤ 0.031 to 0.046, 0.065 (increasing in n)": "none",
+    "generated (no published numbers to compare)": "approximation",
+    "from Crit(0) ≤ 0.031 to 0.046, 0.065 (increasing in n)": "approximation",
 }
 
 
@@ -51,9 +51,10 @@ def test_numbers_are_right_aligned_and_text_left_aligned():
 def test_a_marked_verdict_cell_carries_its_colour_class():
     rows = [["GRW05", "[Table 1](#grw05-table-1)", marked(s), "`rule`"] for s in SHORTS]
     page = render_html([("table", ["paper", "item", "verdict", "rule"], rows)], lambda p: b"", "t")
-    for kind in ("agrees", "differs", "questioned", "none"):
+    for kind in ("agrees", "differs", "questioned", "approximation"):
         assert re.search(rf'<td class="{kind}"><span class="mark">.</span> ', page), kind
-    for kind, colour in (("agrees", "#1b7a2f"), ("differs", "#c62828"), ("questioned", "#b26a00")):
+    for kind, colour in (("agrees", "#1b7a2f"), ("differs", "#c62828"), ("questioned", "#b26a00"),
+                         ("approximation", "#1f4e8c")):
         assert f".{kind} .mark{{color:{colour}}}" in page
     md = render_md([("table", ["paper", "item", "verdict", "rule"], rows)])
     assert "| ✓ agrees within the statistics (max 1.2σ) |" in md and "| ⚠ errors agree" in md
@@ -61,7 +62,9 @@ def test_a_marked_verdict_cell_carries_its_colour_class():
 
 def test_the_summary_explains_the_marks():
     text = render_md(build_document([], EMPTY, "", MACHINE, "quick"))
-    assert "Verdicts: ✓ agrees" in text and "⚠ ours agrees, a published number is questioned" in text
+    assert "Verdicts: ✓ agrees with the exact result" in text
+    assert "⚠ ours agrees with the exact result, a published number does not" in text
+    assert "· compared with an approximation" in text and "✗ disagrees with an exact result" in text
 
 
 def test_the_report_names_only_files_that_exist():

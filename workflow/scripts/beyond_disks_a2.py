@@ -13,7 +13,7 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 import numpy as np  # noqa: E402
 
 from granboltz import read_run  # noqa: E402
-from granboltz.disks import disk_a2_rows, disk_a2_verdict, disk_references  # noqa: E402
+from granboltz.disks import disk_a2_rows, disk_a2_verdict, disk_item_verdict, disk_references  # noqa: E402
 from granboltz.files import write_csv, write_json  # noqa: E402
 from granboltz.plotting import figure_summary, pyplot, save_figure  # noqa: E402
 
@@ -56,7 +56,6 @@ save_figure(fig, [snakemake.output.png, snakemake.output.pdf])
 verdicts = {t: disk_a2_verdict(rows, t) for t in ("gaussian", "white_noise")}
 ok = all(v[0] for v in verdicts.values())
 ours = "; ".join(f"{t.replace('_', ' ')}: {text}" for t, (_, text) in verdicts.items())
-short = ("agrees" if ok else "differs") + " (" + "; ".join(
-    f"{t.replace('_', ' ')} {'agrees' if v[0] else 'differs'}" for t, v in verdicts.items()) + ")"
-write_json(figure_summary(ours, short, ok=ok), snakemake.output.summary)
+kind, short = disk_item_verdict(rows)
+write_json(figure_summary(ours, short, kind=kind, ok=ok), snakemake.output.summary)
 print(ours, file=sys.stderr)

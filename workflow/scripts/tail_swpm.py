@@ -17,7 +17,7 @@ import numpy as np  # noqa: E402
 from granboltz.files import write_json  # noqa: E402
 from granboltz.local_exponent import local_exponent, pool_shells, shells_from_h5  # noqa: E402
 from granboltz.plotting import figure_summary, pyplot, save_figure  # noqa: E402
-from granboltz.tail_swpm import effective_counts, shell_profile, swpm_tail_summary, swpm_verdict  # noqa: E402
+from granboltz.tail_swpm import effective_counts, shell_profile, swpm_kind, swpm_tail_summary, swpm_verdict  # noqa: E402
 
 plt = pyplot()
 tails, example = snakemake.params.tails, snakemake.params.example
@@ -70,6 +70,6 @@ save_figure(fig, [snakemake.output.png, snakemake.output.pdf])
 ok, short = swpm_verdict(s)
 text = f"Example {example}: {short}"
 print(text, file=sys.stderr)
-write_json(figure_summary(text, short, reached=ok, **s,
+write_json(figure_summary(text, short, kind=swpm_kind(s), reached=ok, **s,
                           curve={k: curve[k].tolist() for k in ("r", "b", "ci_b")} if len(curve) else {}),
            snakemake.output.summary)

@@ -131,3 +131,30 @@ def disk_a2_verdict(rows, thermostat):
         parts.append(f"{head} with the balance (max |T/theory − 1| "
                      f"{max(abs(r['T'] / r['T_theory'] - 1) for r in with_T):.2%})")
     return not bad and not bad_T, "; ".join(parts)
+
+
+def disk_item_verdict(rows):
+    """(kind, text) of the hard-disk item: every reference in d = 2 is an approximation (van
+    Noije-Ernst's first Sonine, the second Sonine, the energy balance with vNE's a2), so the outcome
+    is 'approximation' and the text gives the largest measured differences and whether they lie
+    within the allowance of disk_judge."""
+    parts = []
+    for thermostat, label in (("gaussian", "HCS"), ("white_noise", "white noise")):
+        mine = [r for r in rows if r["thermostat"] == thermostat]
+        if not mine:
+            continue
+        ok, _ = disk_a2_verdict(rows, thermostat)
+        first = max(mine, key=lambda r: abs(r["a2"] - r["vne_a2"]))
+        second = max(mine, key=lambda r: abs(r["a2"] - r["sonine2_a2"]))
+        text = (f"{label}: a2 − vNE up to {first['a2'] - first['vne_a2']:+.4f} (α = {first['alpha']:g}), a2 − second "
+                f"Sonine up to {second['a2'] - second['sonine2_a2']:+.4f} (α = {second['alpha']:g}); "
+                f"{'within' if ok else 'outside'} the allowance where judged")
+        with_T = [r for r in mine if r["T"] is not None]
+        if with_T:
+            text += f", T within {max(abs(r['T'] / r['T_theory'] - 1) for r in with_T):.2%} of the balance"
+        parted = [r for r in mine if not r["judged"]]
+        if parted:
+            text += "; where the approximations part, " + ", ".join(
+                f"α = {r['alpha']:g}: position {r['position']:.2f}" for r in parted) + " (0: second Sonine, 1: vNE)"
+        parts.append(text)
+    return "approximation", "compared with approximations: " + "; ".join(parts)

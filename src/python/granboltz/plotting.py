@@ -56,8 +56,13 @@ def save_figure(fig, paths):
     plt.close(fig)
 
 
-def figure_summary(ours, short, **numbers):
+def figure_summary(ours, short, kind=None, **numbers):
     """The JSON summary a figure rule writes next to its figure: the one-line description of
     what our figure shows (`ours`, computed from the numbers), a shorter one for the report's
-    summary table (`short`) and the numbers themselves."""
-    return {"ours": ours, "short": short, "numbers": numbers}
+    summary table (`short`), the outcome the script computed (`kind`: agrees, questioned,
+    approximation or differs; without it the report reads it from the words of `short`) and the
+    numbers themselves."""
+    out = {"ours": ours, "short": short, "numbers": numbers}
+    if kind is not None:
+        out["kind"] = kind
+    return out

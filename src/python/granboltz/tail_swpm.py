@@ -115,8 +115,22 @@ def swpm_tail_summary(shells, example, local, max_rel_ci=0.3, constant=None):
     return {k: int(v) if k == "example" else float(v) for k, v in out.items()}, curve
 
 
+def swpm_kind(s, b_tol=0.03, ci_max=0.03, a_rel=0.05, depth_goal=1e-30, resolved_ci=0.1):
+    """The report's outcome of a weighted-particle tail: 'agrees' where the goal is reached (the
+    exponent b = 1 + lambda/2 is exact for the asymptotic tail); 'differs' where b is resolved (its
+    half-width at most resolved_ci) and lies more than its half-width plus b_tol from the exact b;
+    otherwise 'approximation': the run is too small to judge (the quick profile's)."""
+    ok, _ = swpm_verdict(s, b_tol, ci_max, a_rel, depth_goal)
+    if ok:
+        return "agrees"
+    resolved = bool(np.isfinite(s["b_swpm"]) and s["b_swpm_ci"] <= resolved_ci)
+    if resolved and abs(s["b_swpm"] - s["theory_b"]) > s["b_swpm_ci"] + b_tol:
+        return "differs"
+    return "approximation"
+
+
 def swpm_verdict(s, b_tol=0.03, ci_max=0.03, a_rel=0.05, depth_goal=1e-30):
-    """(reached, text): the issue-11 goal (the tail resolved to f/f(0) <= depth_goal, |b - theory| <=
+    """(reached, text): the goal (the tail resolved to f/f(0) <= depth_goal, |b - theory| <=
     b_tol with half-width <= ci_max, and a within a_rel of theory) and how far the run got."""
     db, da = s["b_swpm"] - s["theory_b"], s["a_swpm"] / s["a_theory"] - 1
     ok = abs(db) <= b_tol and s["b_swpm_ci"] <= ci_max and abs(da) <= a_rel and s["depth_swpm"] <= depth_goal

@@ -16,16 +16,16 @@ per report section, build_document). The names below are re-exported for conveni
 from .convergence import compare_convergence, compare_rw05_table1, compare_rw05_table2
 from .document import COMPARE, build_document, item_blocks, plain_table, wall_times
 from .latex import latex_escape, latex_table
-from .numbers import (DASH, LAMBDA_P, PUBLISHED_N, VERDICT_MARKS, fl, marked, num, pci, pm, rounding_ci, signed_z,
-                      verdict, verdict_kind, z_score)
+from .numbers import (DASH, LAMBDA_P, PUBLISHED_N, VERDICT_MARKS, Verdict, combined_kind, exact_verdict, fl, marked,
+                      num, pci, pm, rounding_ci, signed_z, verdict, verdict_kind, z_score)
 from .render import anchor, inline_html, numeric_columns, render_html, render_md
 from .steady import compare_effort, compare_replicas, compare_steady
 from .tails import compare_tails
 from .tv06 import compare_tv06_dsmc, compare_tv06_needle, compare_tv06_temperature
 
-__all__ = ["COMPARE", "DASH", "LAMBDA_P", "PUBLISHED_N", "VERDICT_MARKS", "anchor", "build_document",
+__all__ = ["COMPARE", "DASH", "LAMBDA_P", "PUBLISHED_N", "VERDICT_MARKS", "Verdict", "anchor", "build_document",
            "compare_convergence", "compare_effort", "compare_replicas", "compare_rw05_table1", "compare_rw05_table2",
-           "compare_steady", "compare_tails", "compare_tv06_dsmc", "compare_tv06_needle", "compare_tv06_temperature",
-           "fl", "inline_html", "item_blocks", "latex_escape", "latex_table", "marked", "num", "numeric_columns", "pci",
+           "combined_kind", "compare_steady", "compare_tails", "compare_tv06_dsmc", "compare_tv06_needle", "compare_tv06_temperature",
+           "exact_verdict", "fl", "inline_html", "item_blocks", "latex_escape", "latex_table", "marked", "num", "numeric_columns", "pci",
            "plain_table", "pm", "render_html", "render_md", "rounding_ci", "signed_z", "verdict", "verdict_kind",
            "wall_times", "z_score"]

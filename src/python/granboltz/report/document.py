@@ -6,7 +6,7 @@ comparison of each table with the published numbers is chosen by the item's `com
 from .beyond import (BEYOND, beyond_section, compare_beyond_a2, compare_beyond_disks_a2, compare_beyond_haff,
                      compare_beyond_mixture, compare_beyond_rough, compare_beyond_tail, compare_beyond_viscoelastic)
 from .convergence import compare_convergence, compare_rw05_table1, compare_rw05_table2
-from .numbers import VERDICT_MARKS, VERDICT_MEANING, marked, num
+from .numbers import VERDICT_MARKS, VERDICT_MEANING, Verdict, marked, num
 from .render import anchor
 from .swpm import SWPM, swpm_section
 from .steady import compare_effort, compare_replicas, compare_steady
@@ -83,6 +83,8 @@ def item_blocks(item, data):
         summary = data["summaries"].get(item["summary"]) if item["summary"] else None
         ours = summary["ours"] if summary else "see the figure"
         short = summary.get("short", ours.split(";")[0]) if summary else ours
+        if summary and summary.get("kind"):  # the outcome the figure script computed
+            short = Verdict(summary["kind"], short)
         blocks += [("img", item["output"], title),
                    ("p", f"**Paper:** {item['what']}. **Ours:** {ours}. {made} (and `.pdf`).")]
     return blocks, short

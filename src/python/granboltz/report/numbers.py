@@ -106,18 +106,69 @@ def fix_typos(name, rows):
 
 
 # ----------------------------------------------------------------------------- verdicts at a glance
-# The mark shown before each short verdict of the summary (Markdown and HTML), and its meaning.
-VERDICT_MARKS = {"agrees": "✓", "differs": "✗", "questioned": "⚠", "none": "·"}
-VERDICT_MEANING = {"agrees": "agrees with the published numbers or the exact result",
-                   "differs": "differs",
-                   "questioned": "ours agrees, a published number is questioned",
-                   "none": "nothing to compare with"}
+# The four outcomes of a comparison, the mark shown before each short verdict of the summary
+# (Markdown and HTML), and its meaning. Only a disagreement with an exact result is a failure:
+# a published number far from the exact result is questioned, and an approximation's distance
+# from the simulation is a measurement of the approximation.
+VERDICT_MARKS = {"agrees": "✓", "questioned": "⚠", "approximation": "·", "differs": "✗"}
+VERDICT_MEANING = {"agrees": "agrees with the exact result or the published numbers",
+                   "questioned": "ours agrees with the exact result, a published number does not (by kσ)",
+                   "approximation": "compared with an approximation (the text says which, and by how much), "
+                                    "or described where nothing exact or published exists",
+                   "differs": "disagrees with an exact result"}
+# The order in which the outcomes of an item's parts combine into the item's: the first present.
+VERDICT_ORDER = ("differs", "questioned", "agrees", "approximation")
+
+
+class Verdict(str):
+    """A short verdict text with its outcome (`kind`, a key of VERDICT_MARKS), computed by the
+    comparison that wrote it; a plain str everywhere else."""
+
+    def __new__(cls, kind, text):
+        if kind not in VERDICT_MARKS:
+            raise ValueError(f"verdict kind {kind!r}: one of {', '.join(VERDICT_MARKS)}")
+        obj = super().__new__(cls, text)
+        obj.kind = kind
+        return obj
+
+    def __add__(self, more):
+        return Verdict(self.kind, str(self) + more)
+
+
+def combined_kind(kinds):
+    """The outcome of an item from those of its parts: differs over questioned over agrees over
+    approximation (an exact failure anywhere decides; approximations alone never do)."""
+    kinds = set(kinds)
+    return next((k for k in VERDICT_ORDER if k in kinds), "approximation")
+
+
+def exact_verdict(ours, published=(), against_published=None, reference="the exact expectation", rows="rows"):
+    """The verdict of a table with an exact reference: `ours` [(label, z)] the signed σ-distances
+    of our values from it, `published` [(label, z)] those of the published values, and
+    `against_published` the largest σ-distance of ours from the published values (or None).
+    differs where one of ours is more than λ_p from the reference; else questioned where a
+    published value is; else agrees."""
+    far = [(k, z) for k, z in ours if abs(z) > LAMBDA_P]
+    off = [(k, z) for k, z in published if abs(z) > LAMBDA_P]
+    vs = "" if against_published is None else f"; ours vs published max {against_published:.1f}σ"
+    if far:
+        return Verdict("differs", f"differs from {reference}: " + ", ".join(f"{k} {z:+.1f}σ" for k, z in far) + vs)
+    worst = max((abs(z) for _, z in ours), default=0.0)
+    head = f"agrees with {reference} (max {worst:.1f}σ over {len(ours)} {rows})"
+    if off:
+        return Verdict("questioned", head + "; published " + ", ".join(f"{k} is {z:+.1f}σ from it" for k, z in off)
+                       + vs)
+    return Verdict("agrees", head + vs)
 
 
 def verdict_kind(short):
-    """The kind of a short verdict text: 'differs' (a row or point differs, or is to be checked),
-    'questioned' (ours agree, but a published number lies far from the exact expectation or
-    differs by a constant factor), 'agrees', or 'none' (no comparison made)."""
+    """The outcome of a short verdict: its `kind` when a comparison computed it (Verdict); else
+    read from the words a figure summary or an older comparison writes: 'differs' (a row or point
+    differs from an exact result), 'questioned' (ours agree, a published number lies far from the
+    exact expectation or differs by a constant factor), 'agrees', or 'approximation' (compared
+    with an approximation, or no comparison made)."""
+    if getattr(short, "kind", None):
+        return short.kind
     text = short.replace("**", "").strip().lower()
     if (text.startswith(("differs", "an error differs", "repeats differ", "check"))
             or "point(s) outside" in text or "point(s) differ" in text):
@@ -126,7 +177,7 @@ def verdict_kind(short):
         return "questioned"
     if text.startswith(("agrees", "errors agree", "repeats agree")):
         return "agrees"
-    return "none"
+    return "approximation"
 
 
 def marked(short):

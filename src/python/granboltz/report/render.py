@@ -80,7 +80,7 @@ table{border-collapse:collapse;margin:0.8em 0;font-size:0.88em}th,td{border:1px 
 th{background:#eee}th.num,td.num{text-align:right}code,pre{font-family:monospace;font-size:0.9em}
 .mark{font-weight:bold;font-family:sans-serif}td.agrees{background:#e8f5e9}.agrees .mark{color:#1b7a2f}
 td.differs{background:#fdecea}.differs .mark{color:#c62828}td.questioned{background:#fff4e0}.questioned .mark{color:#b26a00}
-.none .mark{color:#777}
+td.approximation{background:#eef3fa}.approximation .mark{color:#1f4e8c}
 pre{background:#f6f6f6;padding:0.6em;overflow-x:auto}img{max-width:100%}h1,h2,h3{font-family:Helvetica,Arial,sans-serif}"""
 
 
