@@ -235,7 +235,9 @@ def test_convergence_comparison_flags_a_published_value_far_from_the_exact_bias(
     published = [{"n": "64", "E_max": "0.150e+00", "CF": "", "V_inf": "0.1e-01"},
                  {"n": "256", "E_max": "0.210e-01", "CF": "7.1", "V_inf": "0.1e-01"}]
     blocks, short = compare_convergence("grw05_table1", ours, published)
-    assert "differs" in short and "published n = 64 is" in short and "n = 256" not in short
+    # ours agree with the exact bias, the published n = 64 does not: questioned, not a failure of ours
+    assert short.kind == "questioned" and short.startswith("agrees with the exact expectation")
+    assert "published n = 64 is" in short and "n = 256 is" not in short
     table = blocks[0][2]
     assert "**differs**" in table[0][9] and table[1][9].startswith("agrees")
 

@@ -35,10 +35,10 @@ for col, thermostat in enumerate(("gaussian", "white_noise")):
     top, bottom = axes[0, col], axes[1, col]
     s2, s3 = second_sonine(alpha_fine, thermostat)
     top.plot(alpha_fine, [theory_a2(thermostat, 1, float(a))[0] for a in alpha_fine], "--", color="black",
-             label="hard spheres: first Sonine (vNE)")
+             label="hard spheres (squares): first Sonine (vNE)")
     top.plot(alpha_fine, s2, ":", color="black", label="hard spheres: second Sonine")
     top.plot(alpha_fine, [theory_a2(thermostat, 0, float(a))[0] for a in alpha_fine], "-", color="black",
-             label="Maxwell molecules: exact")
+             label="Maxwell molecules (circles): exact")
     bottom.plot(alpha_fine, s3, ":", color="black")
     exact3 = np.array([maxwell_a3(float(a), thermostat) for a in alpha_fine], dtype=float)
     bottom.plot(alpha_fine, exact3, "-", color="black")
