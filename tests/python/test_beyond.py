@@ -65,14 +65,14 @@ def test_report_section_renders_with_its_verdicts():
     tail = _csv([{"alpha": 0.3, "r": 5.0, "b": 1.05, "ci_b": 0.1, "at_bound": 0, "max_ci": 0.2}])
     assert compare_beyond_haff("beyond_haff", haff)[1].startswith("agrees")
     assert "white noise, hard spheres agrees" in compare_beyond_a2("beyond_a2", a2)[1]
-    assert compare_beyond_tail("beyond_hcs_tail", tail)[1].startswith("agrees")
+    assert compare_beyond_tail("beyond_hcs_tail_profile", tail)[1].startswith("agrees")
     far = _csv([{"alpha": 0.3, "r": 5.0, "b": 1.6, "ci_b": 0.1, "at_bound": 0, "max_ci": 0.2}])
-    assert compare_beyond_tail("beyond_hcs_tail", far)[1].startswith("check: still above")
+    assert compare_beyond_tail("beyond_hcs_tail_profile", far)[1].startswith("check: still above")
     items = [{"paper": "Beyond the papers", "item": name, "rule": "beyond_x", "kind": "table", "output": path,
               "what": "w", "runs": [], "benchmarks": ["benchmarks/x.tsv"], "compare": cmp, "published": None, "summary": None, "extra": []}
              for name, path, cmp in (("Haff", "results/tables/beyond_haff.csv", "beyond_haff"),
                                      ("a2", "results/tables/beyond_a2.csv", "beyond_a2"),
-                                     ("tail", "results/tables/beyond_hcs_tail.csv", "beyond_tail"))]
+                                     ("tail", "results/tables/beyond_hcs_tail_profile.csv", "beyond_tail"))]
     data = {"tables": {items[0]["output"]: haff, items[1]["output"]: a2, items[2]["output"]: tail},
             "published": {}, "summaries": {}, "bench": {}, "runs": {}}
     machine = {k: "x" for k in ("uname", "cpu", "cores", "python", "snakemake", "numpy", "scipy", "h5py", "matplotlib")}
