@@ -467,11 +467,14 @@ TEST(WeightedEnsemble, SavedAndRestoredMidRunContinuesBitForBit) {
   // the uninterrupted one: particles, weights, kick times, streams and majorant are all saved,
   // and with importance splitting (a steep importance, so that the population control acts) the
   // sweep count, the split stream and the target scale as well.
-  for (const bool split : {false, true}) {
+  // With the Gaussian thermostat also its lazy scale, energy sums and cooling integral.
+  for (const int variant : {0, 1, 2}) {
+    const bool split = variant >= 1, gaussian = variant == 2;
     const Config cfg = parse_config("{}", "test", [&] {
       std::vector<std::string> s = {"model=dsmc", "seed=41", "ensembles=1", "dsmc.particles=200",
                                     "dsmc.alpha=0.5", "dsmc.beta=1", "dsmc.gamma=1",
                                     "dsmc.kernel.lambda=1", "dsmc.kernel.C=0.1", "dsmc.t_end=2"};
+      if (gaussian) s.insert(s.end(), {"dsmc.thermostat=gaussian", "dsmc.beta=0"});
       for (auto& x : swpm_sets("2", 400, "heat_flux")) s.push_back(x);
       if (split)
         for (const char* x : {"dsmc.weights.split.radius=2", "dsmc.weights.split.rate=3",
@@ -482,6 +485,7 @@ TEST(WeightedEnsemble, SavedAndRestoredMidRunContinuesBitForBit) {
     WeightedEnsemble a(cfg.dsmc, 41, 3), b(cfg.dsmc, 41, 3);
     a.advance_to(0.7);
     b.advance_to(0.7);
+    if (gaussian) b.mark_cooling(), a.mark_cooling();
     ASSERT_GT(b.reductions(), 0u);
     if (split) ASSERT_GT(b.split_sweeps(), 10u);
     test::TempDir dir;
@@ -503,19 +507,22 @@ TEST(WeightedEnsemble, SavedAndRestoredMidRunContinuesBitForBit) {
     EXPECT_EQ(a.counts().collisions, c.counts().collisions);
     EXPECT_EQ(a.u_max(), c.u_max());
     EXPECT_EQ(a.split_sweeps(), c.split_sweeps());
+    EXPECT_EQ(a.mean_cooling_rate(), c.mean_cooling_rate());
+    if (gaussian) EXPECT_GT(a.mean_cooling_rate(), 0.0);
   }
 }
 
 TEST(WeightedEnsemble, ShardsMergeAndThreadCountsGiveTheSameBits) {
+  // Heated by white noise, and in the HCS (Gaussian thermostat, with its /steady/cooling_rate).
+  for (const bool gaussian : {false, true}) {
   test::TempDir dir;
-  const std::string cfg = dir.write("c.yaml", R"(model: dsmc
+  const std::string cfg = dir.write("c.yaml", std::string(R"(model: dsmc
 seed: 12
 ensembles: 6
 dsmc:
   particles: 100
   alpha: 0.5
-  beta: 1
-  kernel: {lambda: 1, C: 0.0795774715459477}
+)") + (gaussian ? "  beta: 0\n  thermostat: gaussian\n" : "  beta: 1\n") + R"(  kernel: {lambda: 1, C: 0.0795774715459477}
   t_end: 1
   observe_every: 0.25
   histogram: {shells: 10, radius: 8, component: true}
@@ -546,6 +553,8 @@ dsmc:
   H5Reader in(merged);
   EXPECT_TRUE(in.exists("/accumulators/histogram_weight") && in.exists("/events/reductions") &&
               in.exists("/steady/histogram/mean") && in.exists("/accumulators/histogram_steady"));
+  EXPECT_EQ(in.exists("/steady/cooling_rate/mean") && in.exists("/events/cooling_rate"), gaussian);
+  }
 }
 
 // With few particles, lineages of light particles (each collision leaves the lighter partner
@@ -656,4 +665,63 @@ dsmc:
   EXPECT_NEAR(T, T_theory, ci + 0.02 * T_theory);
   const auto V = rb.read_double("/bulk_velocity/mean");
   for (std::size_t k = 2; k < V.size(); k += 3) EXPECT_EQ(V[k], 0.0);
+}
+
+// The homogeneous cooling state with weighted particles: hard spheres, alpha = 1/2, gamma = 1,
+// C = 1/(4 pi), T0 = 1 under the Gaussian thermostat, with importance splitting along the drift.
+// T stays T0 to round-off at every observation; the majorant is recomputed from the particles
+// (it bounds every relative speed and equals 2 max |v - V| after an observation, so it follows the
+// cooled gas instead of only growing); and the measured cooling rate zeta = -d ln T/dt agrees with
+// the first-Sonine HCS rate, zeta_M (1 + 3 a2/16), zeta_M = 4 (1 - alpha^2)/(3 sqrt(pi)) in these
+// units, a2 = 16 (1 - alpha)(1 - 2 alpha^2)/(81 - 17 alpha + 30 alpha^2 (1 - alpha)) (van Noije &
+// Ernst 1998): within its interval plus 1.5 % (DSMC finds the first-Sonine HCS zeta within a few
+// 1e-3 at alpha = 1/2; the weighted tail changes zeta by much less). A wrong energy bookkeeping of
+// the weighted collisions (unweighted energies, or the appended particles left out) misses it by
+// far more: they would count gamma = g/(1 + kappa) of every loss as 1/n.
+TEST(WeightedEnsemble, GaussianThermostatHoldsT0AndMeasuresTheSonineCoolingRate) {
+  const double alpha = 0.5;
+  const std::vector<std::string> s = {
+      "model=dsmc", "seed=5", "ensembles=12", "dsmc.particles=500", "dsmc.alpha=0.5",
+      "dsmc.beta=0", "dsmc.gamma=1", "dsmc.thermostat=gaussian", "dsmc.kernel.lambda=1",
+      "dsmc.kernel.C=" + format_real(1 / (4 * M_PI)), "dsmc.t_end=12", "dsmc.observe_every=1",
+      "dsmc.steady_from=4", "dsmc.weights.method=swpm", "dsmc.weights.kappa=0.25",
+      "dsmc.weights.max_particles=1000", "dsmc.weights.split.radius=3",
+      "dsmc.weights.split.rate=3.5", "dsmc.weights.split.interval=0.03",
+      "dsmc.weights.split.max_radius=16"};
+  const Config cfg = parse_config("{}", "test", s);
+  const test::DsmcRun r(cfg);
+  for (std::size_t m = 0; m < r.times.size(); ++m)
+    EXPECT_NEAR(r.at(m, kTemperature).mean, 1.0, 1e-12) << "T at t = " << r.times[m];
+  const std::vector<double> z = r.record.column("/events/cooling_rate");
+  ASSERT_EQ(z.size(), 12u);
+  const MeanCi zeta = r.record.moments("cooling_rate")[0].stats(r.ensembles);
+  const double a2 = 16 * (1 - alpha) * (1 - 2 * alpha * alpha) /
+                    (81 - 17 * alpha + 30 * alpha * alpha * (1 - alpha));
+  const double sonine = 4 * (1 - alpha * alpha) / (3 * std::sqrt(M_PI)) * (1 + 3 * a2 / 16);
+  EXPECT_NEAR(zeta.mean, sonine, zeta.ci + 0.015 * sonine) << "ci " << zeta.ci;
+  EXPECT_LT(zeta.ci, 0.03 * sonine);
+
+  // One ensemble by hand: the weighted T, the majorant, and the tail the splitting fills.
+  WeightedEnsemble e(cfg.dsmc, 5, 0);
+  double u_first = 0.0;
+  for (double t = 1; t <= 6; t += 1) {
+    e.advance_to(t);
+    const auto& p = e.particles();
+    const auto& g = e.weights();
+    const Observation o = measure_weighted(p, g);
+    EXPECT_NEAR(o[kTemperature], 1.0, 1e-13);
+    double r2 = 0.0, u2 = 0.0, tail = 0.0;
+    const Vec3 V{o[1], o[2], o[3]};
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      r2 = std::max(r2, norm2(p[i].v - V));
+      if (norm(p[i].v - V) > 8.0) tail += 1.0;
+      for (std::size_t j = 0; j < i; ++j) u2 = std::max(u2, norm2(p[i].v - p[j].v));
+    }
+    EXPECT_GE(e.u_max(), std::sqrt(u2)) << "u_max below a relative speed at t = " << t;
+    EXPECT_NEAR(e.u_max(), 2 * std::sqrt(r2), 1e-9 * e.u_max()) << "u_max not recomputed at t = " << t;
+    // The drift (zeta/2) v needs ln(8/3)/(zeta/2) ~ 3.5 to carry split particles from 3 to 8.
+    if (t >= 5) EXPECT_GT(tail, 10.0) << "no particles beyond 8 sqrt(T0) at t = " << t;
+    if (t == 1) u_first = e.u_max();
+  }
+  EXPECT_GT(u_first, 0.0);
 }

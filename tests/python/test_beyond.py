@@ -67,15 +67,15 @@ def test_report_section_renders_with_its_verdicts():
     # hard spheres only: a comparison with approximations, whatever the difference
     short = compare_beyond_a2("beyond_a2", a2)[1]
     assert short.kind == "approximation" and "(α 0.5: +0.0510 ± 0.0020 vs +0.0500)" in short
-    assert compare_beyond_tail("beyond_hcs_tail", tail)[1].startswith("agrees")
+    assert compare_beyond_tail("beyond_hcs_tail_profile", tail)[1].startswith("agrees")
     far = _csv([{"alpha": 0.3, "r": 5.0, "b": 1.6, "ci_b": 0.1, "at_bound": 0, "max_ci": 0.2}])
-    short = compare_beyond_tail("beyond_hcs_tail", far)[1]
+    short = compare_beyond_tail("beyond_hcs_tail_profile", far)[1]
     assert short.kind == "approximation" and "still above b = 1 where the data end" in short
     items = [{"paper": "Beyond the papers", "item": name, "rule": "beyond_x", "kind": "table", "output": path,
               "what": "w", "runs": [], "benchmarks": ["benchmarks/x.tsv"], "compare": cmp, "published": None, "summary": None, "extra": []}
              for name, path, cmp in (("Haff", "results/tables/beyond_haff.csv", "beyond_haff"),
                                      ("a2", "results/tables/beyond_a2.csv", "beyond_a2"),
-                                     ("tail", "results/tables/beyond_hcs_tail.csv", "beyond_tail"))]
+                                     ("tail", "results/tables/beyond_hcs_tail_profile.csv", "beyond_tail"))]
     data = {"tables": {items[0]["output"]: haff, items[1]["output"]: a2, items[2]["output"]: tail},
             "published": {}, "summaries": {}, "bench": {}, "runs": {}}
     machine = {k: "x" for k in ("uname", "cpu", "cores", "python", "snakemake", "numpy", "scipy", "h5py", "matplotlib")}

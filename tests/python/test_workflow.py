@@ -31,7 +31,7 @@ ITEM_RULES = [
     # exact moments and local tail exponents
     "grw05_ex7_moments", "grw05_tail_local_ex7", "grw05_tail_local_ex8", "grw05_tail_local_ex9", "rw05_moments",
     "beyond_haff", "beyond_a2", "beyond_tail", "beyond_viscoelastic", "beyond_disks_a2", "beyond_mixture",
-    "beyond_rough",
+    "beyond_rough", "beyond_hcs_tail_swpm",
     # weighted particles
     "grw05_tail_swpm_ex7", "grw05_tail_swpm_ex8", "grw05_tail_swpm_ex9", "grw05_tail_swpm_check",
 ]
@@ -82,9 +82,11 @@ def test_dry_run_plans_every_job(profile):
     r = b["rough"]
     beyond += len(r["tangential_betas"]) * (len(r["hcs_alphas"]) + len(r["white_noise_alphas"]))
     assert counts.pop("beyond_run") == counts.pop("beyond_run_config") == beyond
+    # the HCS tail with weighted particles: one run per alpha
+    assert counts.pop("beyond_swpm_run") == counts.pop("beyond_swpm_run_config") == len(b["hcs_tail_swpm"]["alphas"])
     # 11 tables and the window table; TV06 Figs. 3, 4, 7 and §4; Ex. 7 moments, amplitude, RW05
-    # moments; 7 beyond
-    assert counts.pop("table_tex") == 26
+    # moments; 8 beyond (the HCS tail of weighted particles among them)
+    assert counts.pop("table_tex") == 27
     assert counts == {"all": 1, "report": 1, **{rule: 1 for rule in ITEM_RULES}}
 
 

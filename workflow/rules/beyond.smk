@@ -10,8 +10,11 @@ Raw runs:  results/beyond/<thermostat>/<kernel>/<restitution>/N=<ensembles>/n=<p
            steady runs) or rough-beta<beta> (rough hard spheres, dsmc.roughness: steady runs),
            <restitution> = alpha=<alpha> (constant) or delta=<delta> (viscoelastic: free-cooling
            hard spheres only)
+           SWPM runs of the HCS tail: results/beyond_swpm/gaussian/hard_spheres/alpha=<alpha>/N=<N>/n=<n>/run.h5
+           (dsmc.weights: swpm with importance splitting, config beyond.hcs_tail_swpm)
 Items:     Haff's law (table + figure), a2(alpha) of both thermostats (table + figure), the HCS tail
-           (local exponent; table + figure), viscoelastic free cooling (T ~ t^(-5/3); table +
+           (local exponent of constant weights, table beyond_hcs_tail_profile + figure; b and A of the
+           exponential tail with weighted particles, table beyond_hcs_tail), viscoelastic free cooling (T ~ t^(-5/3); table +
            figure), a2 and a3 of hard disks (table + figure), T1/T2 of a binary mixture and theta =
            T_rot/T_tr of rough spheres (tables + figures), in the report section "Beyond the papers".
 """
@@ -190,6 +193,101 @@ rule beyond_run:
 
 HAFF, A2, TAIL, VISCO, DISKS = BEYOND["haff"], BEYOND["a2"], BEYOND["tail"], BEYOND["viscoelastic"], BEYOND["disks_a2"]
 MIXTURE, ROUGH = BEYOND["mixture"], BEYOND["rough"]
+HCS_SWPM = BEYOND["hcs_tail_swpm"]
+if not (len(HCS_SWPM["radius"]) == len(HCS_SWPM["shells"]) == len(HCS_SWPM["alphas"])):
+    raise ValueError("beyond.hcs_tail_swpm: radius and shells need one entry per alpha")
+if not (_whole(HCS_SWPM["t_end"], HCS_SWPM["observe_every"]) and HCS_SWPM["steady_from"] < HCS_SWPM["t_end"]):
+    raise ValueError("beyond.hcs_tail_swpm: t_end must be a whole multiple of observe_every, after steady_from")
+
+
+def beyond_swpm_runs():
+    """The SWPM runs of the HCS tail, one per alpha of beyond.hcs_tail_swpm."""
+    return expand("results/beyond_swpm/gaussian/hard_spheres/alpha={alpha}/N={N}/n={n}/run.h5",
+                  alpha=HCS_SWPM["alphas"], N=HCS_SWPM["ensembles"], n=HCS_SWPM["particles"])
+
+
+def beyond_swpm_run_config(wildcards):
+    """Run config of results/beyond_swpm/gaussian/hard_spheres/alpha={alpha}/N={N}/n={n}: hard
+    spheres under the Gaussian thermostat with SWPM and importance splitting. The importance
+    function is the theory tail exp(-A c) in r = |v - V|: rate A/v0 with A from the first-Sonine
+    zeta (granboltz.hcs_tail; only the variance depends on it), from split_radius out to R; the
+    sweeps come every 1/(rate zeta R), the time the drift (zeta/2) r takes to move a particle at R
+    by one e-fold of the importance function."""
+    from granboltz.hcs_tail import hcs_amplitude, sonine_cooling_rate, thermal_speed
+
+    h = HCS_SWPM
+    alpha = float(wildcards.alpha)
+    k = [float(a) for a in h["alphas"]].index(alpha)
+    R, T0 = float(h["radius"][k]), float(BEYOND["temperature0"])
+    zeta = sonine_cooling_rate(alpha, BEYOND["gamma"], BEYOND["C"], T0)
+    rate = hcs_amplitude(zeta, BEYOND["gamma"], BEYOND["C"], T0) / thermal_speed(T0)
+    split = {"radius": float(h["split_radius"]), "rate": rate, "power": 1.0,
+             "interval": 1.0 / (rate * zeta * R), "max_radius": R}
+    weights = {"method": "swpm", "kappa": h["kappa"], "max_particles": int(h["max_particles"]),
+               "reduction": h["reduction"], "split": split}
+    physics = {"alpha": alpha, "beta": 0.0, "gamma": BEYOND["gamma"], "kernel": {"lambda": 1, "C": BEYOND["C"]},
+               "temperature0": T0}
+    label = f"beyond_swpm/gaussian/hard_spheres/alpha={wildcards.alpha}/n={wildcards.n}"
+    run = dsmc_run_config(label, physics, wildcards.N, wildcards.n, h["t_end"], h["observe_every"],
+                          thermostat="gaussian", histogram={"shells": int(h["shells"][k]), "radius": R, "center": "bulk"},
+                          steady_from=h["steady_from"], weights=weights)
+    run["dsmc"].pop("steady_ci")  # the batch interval: these runs reproduce no paper's intervals
+    return run
+
+
+localrules:
+    beyond_swpm_run_config,
+
+
+rule beyond_swpm_run_config:
+    output:
+        yaml="results/beyond_swpm/gaussian/hard_spheres/alpha={alpha}/N={N}/n={n}/run.yaml",
+    log:
+        "logs/beyond_swpm/gaussian/hard_spheres/alpha={alpha}/N={N}/n={n}/run_config.log",
+    wildcard_constraints:
+        alpha="[0-9.]+",
+    params:
+        run=beyond_swpm_run_config,
+    script:
+        "../scripts/write_run_config.py"
+
+
+rule beyond_swpm_run:
+    input:
+        config=rules.beyond_swpm_run_config.output.yaml,
+        granboltz=config["granboltz"],
+    output:
+        h5="results/beyond_swpm/gaussian/hard_spheres/alpha={alpha}/N={N}/n={n}/run.h5",
+    log:
+        "logs/beyond_swpm/gaussian/hard_spheres/alpha={alpha}/N={N}/n={n}/run.log",
+    benchmark:
+        "benchmarks/beyond_swpm/gaussian/hard_spheres/alpha={alpha}/N={N}/n={n}/run.tsv"
+    wildcard_constraints:
+        alpha="[0-9.]+",
+    threads: run_threads
+    resources:
+        mem_mb=swpm_mem_mb,
+    shell:
+        "{input.granboltz} run {input.config} -o {output.h5} --threads {threads} > {log} 2>&1"
+
+
+rule beyond_hcs_tail_swpm:
+    input:
+        runs=beyond_swpm_runs(),
+    output:
+        csv=report("results/tables/beyond_hcs_tail.csv", caption="../report/beyond.rst", category="Beyond the papers"),
+        summary="results/figures/beyond_hcs_tail_swpm.json",
+    log:
+        "logs/figures/beyond_hcs_tail_swpm.log",
+    benchmark:
+        "benchmarks/figures/beyond_hcs_tail_swpm.tsv"
+    params:
+        gamma=BEYOND["gamma"],
+        C=BEYOND["C"],
+        temperature0=BEYOND["temperature0"],
+        fit=HCS_SWPM,
+    script:
+        "../scripts/beyond_hcs_tail_swpm.py"
 
 
 rule beyond_haff:
@@ -232,7 +330,7 @@ rule beyond_tail:
     input:
         run=beyond_runs("gaussian", "hard_spheres", TAIL["alpha"], TAIL["ensembles"], A2["particles"])[0],
     output:
-        csv=report("results/tables/beyond_hcs_tail.csv", caption="../report/beyond.rst", category="Beyond the papers"),
+        csv=report("results/tables/beyond_hcs_tail_profile.csv", caption="../report/beyond.rst", category="Beyond the papers"),
         png=report("figures/beyond_hcs_tail.png", caption="../report/beyond.rst", category="Beyond the papers"),
         pdf="figures/beyond_hcs_tail.pdf",
         summary="results/figures/beyond_hcs_tail.json",
@@ -350,3 +448,10 @@ for _rule, _name, _what in (
                 run_rule=rules.beyond_run, summary=_rule.output.summary)
     report_item(BEYOND_PAPER, _name + " (table)", _rule, "table", _rule.output.csv, _what,
                 compare="beyond_" + _rule.rule.name.split("_", 1)[1])
+
+report_item(BEYOND_PAPER, "HCS tail, weighted particles", rules.beyond_hcs_tail_swpm, "table",
+            rules.beyond_hcs_tail_swpm.output.csv,
+            "exponential HCS tail f ~ exp(−A c^b) of hard spheres resolved to f/f(0) ≤ 1e−20 with weighted particles "
+            "(SWPM, importance splitting along the Gaussian thermostat's drift): b against 1 and A against "
+            "8πγC v0/ζ with the cooling rate ζ measured in the same run", runs=rules.beyond_hcs_tail_swpm.input.runs,
+            run_rule=rules.beyond_swpm_run, compare="beyond_hcs_tail_swpm")

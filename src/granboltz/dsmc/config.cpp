@@ -351,9 +351,6 @@ DsmcConfig read_dsmc(const Section& s) {
     if (c.scheme != Scheme::kNoSplit)
       throw ConfigError(s.name("weights") + ": method swpm supports only scheme nosplit (not " +
                         scheme + "): new particles are born with their own kick time");
-    if (c.thermostat == Thermostat::kGaussian)
-      throw ConfigError(s.name("weights") + ": method swpm supports thermostat white_noise or "
-                        "none, not gaussian");
     if (c.majorant == MajorantKind::kPairwise)
       throw ConfigError(s.name("weights") + ": method swpm supports only majorant: global");
   }

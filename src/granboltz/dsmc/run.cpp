@@ -138,6 +138,12 @@ Record dsmc_layout(const DsmcRunConfig& config) {
     if (K1) r.declare_moments("histogram_weight", rows * K1);
     r.declare_column("/events/reductions", false);
     r.declare_column("/events/particles_final", false);
+    // The Gaussian thermostat: per ensemble the mean cooling rate over the steady window (or the
+    // whole run), and its sums over the ensembles for /steady/cooling_rate.
+    if (d.thermostat == Thermostat::kGaussian) {
+      r.declare_column("/events/cooling_rate", true);
+      r.declare_moments("cooling_rate", 1);
+    }
   }
   // The histogram of (v - V)_x: after the others, so that their layout stays.
   if (component) {
@@ -497,6 +503,9 @@ void run_dsmc(const DsmcRunConfig& config, const DriverOptions& options, Record&
         if (!w.comp.empty())
           component_histogram_weighted(we.particles(), we.weights(), d.histogram, V,
                                        &w.wcomp[m * K1], &w.comp[m * K1]);
+        // The cooling rate is averaged over the rows the steady observables use: from the last
+        // row outside that window on.
+        if (!(times[m] > steady_after)) w.weighted->mark_cooling();
       } else {
         const Particles& particles = w.gas ? w.gas->particles() : w.ensemble->particles();
         if (w.gas) {
@@ -550,10 +559,15 @@ void run_dsmc(const DsmcRunConfig& config, const DriverOptions& options, Record&
     if (w.weighted) {
       const WeightedEnsemble& we = *w.weighted;
       const EventCounts& c = we.counts();
-      record.add_ensemble(e, {static_cast<double>(c.collisions), static_cast<double>(c.fictitious),
-                              static_cast<double>(c.kicks), we.u_max(),
-                              static_cast<double>(we.reductions()),
-                              static_cast<double>(we.particles().size())});
+      std::vector<double> columns{static_cast<double>(c.collisions), static_cast<double>(c.fictitious),
+                                  static_cast<double>(c.kicks), we.u_max(),
+                                  static_cast<double>(we.reductions()),
+                                  static_cast<double>(we.particles().size())};
+      if (d.thermostat == Thermostat::kGaussian) {
+        columns.push_back(we.mean_cooling_rate());
+        record.moments("cooling_rate")[0].add(we.mean_cooling_rate());
+      }
+      record.add_ensemble(e, columns);
       return;
     }
     if (w.gas) {
@@ -1032,6 +1046,20 @@ void present_dsmc(H5Writer& out, const DsmcRunConfig& config, const Record& reco
                              ? "ensembles" : "blocking"));
     out.attr("/steady", "samples", samples);
     out.attr("/steady", "from", d.steady_from);
+  }
+  if (d.weights.swpm && d.thermostat == Thermostat::kGaussian) {
+    // zeta = -d ln T/dt of the collisions alone, which the thermostat undoes: per ensemble the
+    // mean over its steady window, here its mean and interval over the ensembles.
+    const std::string g = d.steady ? "/steady/cooling_rate" : "/cooling_rate";
+    const MeanCi z = record.moments("cooling_rate")[0].stats(N);
+    out.write(g + "/mean", std::vector<double>{z.mean}, {});
+    out.write(g + "/ci", std::vector<double>{z.ci}, {});
+    out.write(g + "/variance", std::vector<double>{z.variance}, {});
+    out.attr(g, "description",
+             std::string("zeta = -d ln T/dt: the rate at which inelastic collisions remove the "
+                         "energy E = sum g |v - V|^2 that the Gaussian thermostat restores, "
+                         "(energy lost per unit time)/E, averaged over (steady_from, t_end] in "
+                         "each ensemble; mean and ci over the ensembles"));
   }
   write_sonine(out, config, record, whole);
   for (const RowSet& set : extra_row_sets(d)) present_row_set(out, config, record, set);

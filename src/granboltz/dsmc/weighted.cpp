@@ -29,6 +29,9 @@ constexpr double kReduceTo = 0.8;
 // papers' tails reach f/f(0) = 1e-40, their lightest particles about 1e-60 of 1/n) and far enough
 // above the underflow for the collisions between two checks (a factor 5 each for kappa = 1/4).
 constexpr double kLightestWeight = 1e-250;
+// Gaussian thermostat: the lazy scale is folded into the velocities once s^2 passes this (as in
+// the constant-weight engine), besides at every sweep, reduction and observation.
+constexpr double kRefold = 0x1p8;
 }  // namespace
 
 // ---- Sum tree ----
@@ -122,11 +125,11 @@ int weighted_collide(Particles& p, std::vector<double>& g, std::size_t a, std::s
 }
 
 int weighted_collide(Particles& p, std::vector<double>& g, std::size_t a, std::size_t b, Vec3 e,
-                     const RestitutionLaw& law, double kappa, double t) {
+                     const RestitutionLaw& law, double kappa, double t, double s2) {
   if (const auto* k = std::get_if<ConstantRestitution>(&law))
     return weighted_collide(p, g, a, b, e, k->alpha, kappa, t);
   Vec3 va = p[a].v, vb = p[b].v;
-  collide_law(va, vb, e, law, 1.0);  // no lazy scale: SWPM has no Gaussian thermostat
+  collide_law(va, vb, e, law, s2);
   return replace_or_append(p, g, a, b, va, vb, kappa, t);
 }
 
@@ -330,8 +333,14 @@ WeightedEnsemble::WeightedEnsemble(const DsmcConfig& config, std::uint64_t seed,
     : c_(config),
       p_(config.particles),
       g_(config.particles, 1.0 / static_cast<double>(config.particles)),
-      adapt_factor2_(config.majorant_update == MajorantUpdate::kStrict ? 4.0 : 1.0),
+      // The Gaussian thermostat keeps the strict bound 2 |v - V| >= |v - w| between folds, so the
+      // majorant recomputed at every fold can shrink with the cooling and stay a bound.
+      adapt_factor2_(config.majorant_update == MajorantUpdate::kStrict ||
+                             config.thermostat == Thermostat::kGaussian
+                         ? 4.0
+                         : 1.0),
       heated_(config.thermostat == Thermostat::kWhiteNoise && config.beta > 0.0),
+      gaussian_(config.thermostat == Thermostat::kGaussian),
       events_(make_stream(seed, ensemble, Consumer::kEvents)),
       pairs_(make_stream(seed, ensemble, Consumer::kPairs)),
       sweep_(make_stream(seed, ensemble, Consumer::kSweep)),
@@ -353,10 +362,43 @@ WeightedEnsemble::WeightedEnsemble(const DsmcConfig& config, std::uint64_t seed,
     sum += q.v;
   }
   v0_ = (1.0 / static_cast<double>(p_.size())) * sum;
+  if (gaussian_) fold_scale();  // the thermostat holds T at T0 exactly, from t = 0 on
   double r2 = 0.0;
   for (const auto& q : p_) r2 = std::max(r2, norm2(q.v - v0_));
   u_max_ = 2.0 * std::sqrt(r2);
   rebuild_tree();
+}
+
+void WeightedEnsemble::fold_scale() {
+  // As DsmcEnsemble::fold_scale with the weighted sums: the true velocities are V + f (w - m), m
+  // the weighted mean of the stored ones and f such that the weighted centred temperature
+  // sum g |v - V|^2 / (d sum g) is T0 to round-off. Centring on m puts the bulk velocity back on
+  // the conserved V after the roulette's momentum noise (it keeps momentum only in expectation).
+  // The collisions' scale s^2 is added to the cooling integral first: it is the factor by which
+  // the collisions alone (not the roulette or the round-off, which f also absorbs) cooled the gas.
+  double G = 0.0;
+  Vec3 M;
+  for (std::size_t i = 0; i < p_.size(); ++i) G += g_[i], M += g_[i] * p_[i].v;
+  const Vec3 mean = (1.0 / G) * M;
+  double k = 0.0;
+  for (std::size_t i = 0; i < p_.size(); ++i) k += g_[i] * norm2(p_[i].v - mean);
+  const double f = GaussianThermostat::fold_factor(c_.dimension, G, c_.initial_temperature, k);
+  double e = 0.0;
+  for (std::size_t i = 0; i < p_.size(); ++i) {
+    p_[i].v = v0_ + f * (p_[i].v - mean);
+    e += g_[i] * norm2(p_[i].v - v0_);
+  }
+  cooled_ += std::log(gauss_.s2);
+  gauss_.set(e, e);
+}
+
+void WeightedEnsemble::recompute_majorant() {
+  // Right after a fold the stored velocities are the true ones: 2 max |v - V| bounds every
+  // relative speed, and it follows the cooled gas down instead of only growing.
+  if (c_.kernel.lambda == 0.0) return;
+  double r2 = 0.0;
+  for (const auto& q : p_) r2 = std::max(r2, norm2(q.v - v0_));
+  u_max_ = 2.0 * std::sqrt(r2);
 }
 
 void WeightedEnsemble::rebuild_tree() {
@@ -384,6 +426,10 @@ void WeightedEnsemble::kick_all_to(double s) {
     if (c_.kernel.lambda != 0.0)
       for (const auto& q : p_) adapt_majorant(q.v);
   } else {
+    if (gaussian_) {  // the true velocities at s
+      fold_scale();
+      recompute_majorant();
+    }
     for (auto& q : p_) q.t = s;
   }
 }
@@ -395,6 +441,10 @@ void WeightedEnsemble::reduce_to_cap() {
                    static_cast<std::size_t>(kReduceTo * static_cast<double>(c_.weights.max_particles)),
                    c_.weights.reduction, reduce_, c_.dimension);
   ++reductions_;
+  if (gaussian_) {  // the merges keep the energy; the fold makes its sums exact again
+    fold_scale();
+    recompute_majorant();
+  }
   check_weights();
 }
 
@@ -431,6 +481,10 @@ void WeightedEnsemble::split_sweep() {
     c = split_particles(p_, g_, v0_, c_.weights.split, g_ref, split_, split_scale_);
   }
   if (static_cast<double>(c.tail) < 0.125 * cap && split_scale_ > 1.0) split_scale_ *= 0.5;
+  if (gaussian_) {  // the roulette changed the energy (in expectation it kept it)
+    fold_scale();
+    recompute_majorant();
+  }
   reduce_to_cap();
   check_weights();
   rebuild_tree();
@@ -462,7 +516,10 @@ bool WeightedEnsemble::advance_with(double s, const std::atomic<bool>* pause) {
     // probability  max(g_i, g_j)/(g_i + g_j) * min(1, (|u|/U)^lambda)  (the truncated kernel,
     // RW05 eq. 19, as in the constant-weight scheme): the real rate is (1 + kappa) max(g_i, g_j) B.
     const double n = static_cast<double>(p_.size()), G = tree_.total();
-    const double rate = K * c_.kernel.power(u_max_) * (n - 1.0) * G;
+    // Gaussian: u_max_ bounds the stored relative speeds, the true ones are s times them; s only
+    // changes at collisions, so between events the rate is constant.
+    const double rate =
+        K * c_.kernel.power(gaussian_ ? std::sqrt(gauss_.s2) * u_max_ : u_max_) * (n - 1.0) * G;
     const double tau = exponential(events_) / rate;
     if (c_.weights.split.on) {
       // A sweep changes n and so the rate: the waiting time is drawn afresh after it (the
@@ -492,10 +549,19 @@ bool WeightedEnsemble::advance_with(double s, const std::atomic<bool>* pause) {
                           (maxwell ? 1.0 : c_.kernel.acceptance(norm(a.v - b.v), u_max_));
     if (uniform01(events_) < accept) {
       const std::size_t before = p_.size();
+      double e_before = 0.0;
+      if (gaussian_) e_before = gi * norm2(a.v - v0_) + gj * norm2(b.v - v0_);
       if (constant_law) [[likely]]
         weighted_collide(p_, g_, i, j, Geo::direction(a.v - b.v, events_), alpha, kappa, t_);
       else
-        weighted_collide(p_, g_, i, j, Geo::direction(a.v - b.v, events_), c_.restitution, kappa, t_);
+        weighted_collide(p_, g_, i, j, Geo::direction(a.v - b.v, events_), c_.restitution, kappa,
+                         t_, gaussian_ ? gauss_.s2 : 1.0);
+      if (gaussian_) {
+        // The change of sum g |w - V|^2: the partners' slots and the appended particles.
+        double e_after = g_[i] * norm2(p_[i].v - v0_) + g_[j] * norm2(p_[j].v - v0_);
+        for (std::size_t k = before; k < p_.size(); ++k) e_after += g_[k] * norm2(p_[k].v - v0_);
+        gauss_.after_collision(e_after - e_before);
+      }
       tree_.set(i, g_[i]);
       tree_.set(j, g_[j]);
       for (std::size_t k = before; k < p_.size(); ++k) tree_.set(k, g_[k]);
@@ -509,6 +575,10 @@ bool WeightedEnsemble::advance_with(double s, const std::atomic<bool>* pause) {
         rebuild_tree();
         if (!maxwell)
           for (const auto& q : p_) adapt_majorant(q.v);
+      }
+      if (gaussian_ && gauss_.s2 > kRefold) {
+        fold_scale();
+        recompute_majorant();
       }
     } else {
       ++counts_.fictitious;
@@ -537,13 +607,23 @@ void WeightedEnsemble::save(H5Writer& out, const std::string& g) const {
             std::vector<std::uint64_t>{counts_.collisions, counts_.fictitious, counts_.kicks,
                                        reductions_, splits_},
             {5});
+  if (gaussian_)
+    out.write(g + "/thermostat",
+              std::vector<double>{gauss_.energy, gauss_.target, cooled_, mark_cooled_, mark_time_},
+              {5});
 }
 
 WeightedEnsemble::WeightedEnsemble(const DsmcConfig& config, const H5Reader& in,
                                    const std::string& g, ProgressSlot* progress)
     : c_(config),
-      adapt_factor2_(config.majorant_update == MajorantUpdate::kStrict ? 4.0 : 1.0),
+      // The Gaussian thermostat keeps the strict bound 2 |v - V| >= |v - w| between folds, so the
+      // majorant recomputed at every fold can shrink with the cooling and stay a bound.
+      adapt_factor2_(config.majorant_update == MajorantUpdate::kStrict ||
+                             config.thermostat == Thermostat::kGaussian
+                         ? 4.0
+                         : 1.0),
       heated_(config.thermostat == Thermostat::kWhiteNoise && config.beta > 0.0),
+      gaussian_(config.thermostat == Thermostat::kGaussian),
       events_(read_engine(in, g + "/events_stream")),
       pairs_(read_engine(in, g + "/pairs_stream")),
       sweep_(read_engine(in, g + "/sweep_stream")),
@@ -578,6 +658,17 @@ WeightedEnsemble::WeightedEnsemble(const DsmcConfig& config, const H5Reader& in,
   counts_ = {counters[0], counters[1], counters[2]};
   reductions_ = counters[3];
   splits_ = counters[4];
+  if (gaussian_) {  // the lazy scale: the particles above are the stored velocities w
+    const auto th = in.read_double(g + "/thermostat");
+    if (th.size() != 5 || !(th[0] > 0) || !(th[1] > 0) || !std::isfinite(th[0]) ||
+        !std::isfinite(th[1]) || !std::isfinite(th[2]) || !std::isfinite(th[3]) ||
+        !(th[4] >= 0.0 && th[4] <= t_))
+      refuse("a malformed thermostat state");
+    gauss_.set(th[0], th[1]);
+    cooled_ = th[2];
+    mark_cooled_ = th[3];
+    mark_time_ = th[4];
+  }
   rebuild_tree();
 }
 

@@ -4,6 +4,7 @@
 // no-splitting time scheme of GRW05 §4 (per-particle kick times). Particles carry weights g_i
 // (sum 1 = the density); the constant-weight engine (ensemble.hpp) is left untouched.
 #include <atomic>
+#include <cmath>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -12,6 +13,7 @@
 #include "granboltz/dsmc/ensemble.hpp"
 #include "granboltz/dsmc/observables.hpp"
 #include "granboltz/dsmc/particles.hpp"
+#include "granboltz/physics/thermostat/gaussian.hpp"
 #include "granboltz/random/rng.hpp"
 
 namespace granboltz {
@@ -55,8 +57,10 @@ int weighted_collide(Particles& p, std::vector<double>& g, std::size_t a, std::s
                      double alpha, double kappa, double t);
 /// The same with a restitution law eps(g_n) (restitution/collide.hpp): the constant law is the
 /// call above with its alpha, bit for bit.
+/// `s2`: the Gaussian thermostat's lazy scale squared, so that eps(g_n) sees the true normal speed
+/// (the stored one times s); 1 without it.
 int weighted_collide(Particles& p, std::vector<double>& g, std::size_t a, std::size_t b, Vec3 e,
-                     const RestitutionLaw& law, double kappa, double t);
+                     const RestitutionLaw& law, double kappa, double t, double s2 = 1.0);
 
 /// Replaces the group `members` (at least 3 particles) by two particles that keep its mass,
 /// momentum and energy, and for kHeatFlux also its central heat flux, placed in the first two
@@ -111,7 +115,17 @@ class WeightedEnsemble {
   const Particles& particles() const { return p_; }
   const std::vector<double>& weights() const { return g_; }
   double time() const { return t_; }
-  double u_max() const { return u_max_; }
+  /// The majorant in true units (with the Gaussian thermostat the stored bound times the scale).
+  double u_max() const { return gaussian_ ? std::sqrt(gauss_.s2) * u_max_ : u_max_; }
+  /// Gaussian thermostat: the integral of the cooling rate zeta = -d ln T/dt over [0, time()],
+  /// ie. the sum over collisions of -ln(1 + delta E/E), E = sum g |v - V|^2 (0 otherwise).
+  double cooling_integral() const { return cooled_ + (gaussian_ ? std::log(gauss_.s2) : 0.0); }
+  /// Remembers the current time and cooling_integral() (the start of the steady window).
+  void mark_cooling() { mark_cooled_ = cooling_integral(), mark_time_ = t_; }
+  /// The mean cooling rate since the last mark_cooling() (or t = 0).
+  double mean_cooling_rate() const {
+    return t_ > mark_time_ ? (cooling_integral() - mark_cooled_) / (t_ - mark_time_) : 0.0;
+  }
   const EventCounts& counts() const { return counts_; }
   std::uint64_t reductions() const { return reductions_; }
   std::uint64_t split_sweeps() const { return splits_; }
@@ -125,6 +139,11 @@ class WeightedEnsemble {
   void reduce_to_cap();
   void split_sweep();
   void check_weights() const;  // throws if a weight has come near the underflow
+  // Gaussian thermostat: the stored velocities w relate to the true ones by v = V + s (w - V),
+  // V = v0_, s^2 = gauss_.s2, as in the constant-weight engine (the weighted collision map is
+  // linear in the velocities, so it commutes with the scale; the weights do not see it).
+  void fold_scale();         // v := V + f (w - m), f from the exact weighted sums: T = T0
+  void recompute_majorant(); // u_max = 2 max |v - V|: strict, and free to shrink
 
   const DsmcConfig& c_;
   Particles p_;
@@ -135,6 +154,10 @@ class WeightedEnsemble {
   double u_max_ = 0.0;
   double adapt_factor2_;
   bool heated_;
+  bool gaussian_;             // dsmc.thermostat: gaussian
+  GaussianThermostat gauss_;  // energy = sum g |w - V|^2, kept current collision by collision
+  double cooled_ = 0.0;       // sum of ln s^2 over the folds: the integral of zeta up to the last
+  double mark_cooled_ = 0.0, mark_time_ = 0.0;  // cooling_integral() and t at mark_cooling()
   Engine events_, pairs_, sweep_, reduce_, split_;
   EventCounts counts_;
   std::uint64_t reductions_ = 0;

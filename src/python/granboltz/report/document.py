@@ -6,6 +6,7 @@ comparison of each table with the published numbers is chosen by the item's `com
 from .beyond import (BEYOND, beyond_section, compare_beyond_a2, compare_beyond_disks_a2, compare_beyond_haff,
                      compare_beyond_mixture, compare_beyond_rough, compare_beyond_tail, compare_beyond_viscoelastic)
 from .convergence import compare_convergence, compare_rw05_table1, compare_rw05_table2
+from .hcs_tail import compare_beyond_hcs_tail_swpm
 from .numbers import VERDICT_MARKS, VERDICT_MEANING, Verdict, marked, num
 from .render import anchor
 from .swpm import SWPM, swpm_section
@@ -28,7 +29,8 @@ COMPARE = {"convergence": compare_convergence, "rw05_table1": compare_rw05_table
            "tv06_needle": compare_tv06_needle, "tv06_dsmc": compare_tv06_dsmc, None: plain_table,
            "beyond_haff": compare_beyond_haff, "beyond_a2": compare_beyond_a2, "beyond_tail": compare_beyond_tail,
            "beyond_viscoelastic": compare_beyond_viscoelastic, "beyond_disks_a2": compare_beyond_disks_a2,
-           "beyond_mixture": compare_beyond_mixture, "beyond_rough": compare_beyond_rough}
+           "beyond_mixture": compare_beyond_mixture, "beyond_rough": compare_beyond_rough,
+           "beyond_hcs_tail_swpm": compare_beyond_hcs_tail_swpm}
 
 # ----------------------------------------------------------------------------- the document
 PAPERS = {

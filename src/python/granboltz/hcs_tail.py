@@ -1,0 +1,120 @@
+"""The exponential tail of the homogeneous cooling state (HCS) of hard spheres, measured deep with
+weighted particles (SWPM) under the Gaussian thermostat.
+
+Theory (van Noije & Ernst 1998; /work/shared/reference/beyond.md §3): in scaled velocities a fast
+particle is pushed outward by the thermostat's drift (zeta/2) v and lost at the rate
+nu(v) = 4 pi gamma C v (d = 3, density 1), so (zeta/2) v f' = -4 pi gamma C v f and
+
+    f ~ exp(-A c),  c = |v - V|/v0,  v0 = sqrt(2 T/m),  A = 8 pi gamma C v0 / zeta,
+
+with zeta = -d ln T/dt the cooling rate of the same run (its /steady/cooling_rate, docs/output.md):
+no Sonine input.
+
+The fits (on the pooled shells, each bin's f integrated over its shell as in
+local_exponent.tail_fit, from the first shell with f/f(0) < tail_from out to the resolved end):
+
+* the amplitude: ln f = c0 + chi ln c - A c (b = 1, the prefactor exponent chi free), A_swpm;
+* the exponent: ln f = c0 - a c^b (b free, chi = 0), b_swpm.  With b and chi both free the two
+  are nearly degenerate over a window of one decade in c (measured: b = 0.84-0.94 with a
+  half-width of 0.14-0.7 on the quick runs), so b is fitted with chi = 0 and the first fit's chi
+  shows whether that is fair (it is 0 within its interval on the runs measured).
+"""
+import math
+
+import numpy as np
+from scipy.optimize import curve_fit
+
+from .local_exponent import Z, _log_bin_model, _quadrature, pool_shells, tail_fit
+from .tail_swpm import effective_counts, resolved_depth, resolved_limit, shell_profile
+
+HCS_TAIL_COLUMNS = ["alpha", "b_swpm", "b_swpm_ci", "A_swpm", "A_theory", "depth_swpm"]
+
+
+def thermal_speed(T, m=1.0):
+    """v0 = sqrt(2 T/m)."""
+    return math.sqrt(2.0 * T / m)
+
+
+def hcs_amplitude(zeta, gamma, C, T, m=1.0, dimension=3):
+    """A = 8 pi gamma C v0/zeta (d = 3; 4 pi gamma C v0/zeta for hard disks, beyond.md §3)."""
+    k = 8.0 * math.pi if dimension == 3 else 4.0 * math.pi
+    return k * gamma * C * thermal_speed(T, m) / zeta
+
+
+def maxwellian_cooling_rate(alpha, gamma, C, T, m=1.0):
+    """zeta of hard spheres with a Maxwellian f: 8 pi gamma C v0 (1 - alpha^2)/(3 sqrt(pi/2))
+    (the A = 3 sqrt(pi/2)/(1 - alpha^2) of beyond.md §3)."""
+    return 8.0 * math.pi * gamma * C * thermal_speed(T, m) * (1.0 - alpha**2) / (3.0 * math.sqrt(math.pi / 2.0))
+
+
+def sonine_cooling_rate(alpha, gamma, C, T, m=1.0):
+    """First-Sonine HCS cooling rate of hard spheres, d = 3: the Maxwellian one times
+    (1 + 3 a2/16), a2 = 16 (1 - alpha)(1 - 2 alpha^2)/(81 - 17 alpha + 30 alpha^2 (1 - alpha))
+    (van Noije & Ernst 1998)."""
+    a2 = 16.0 * (1.0 - alpha) * (1.0 - 2.0 * alpha**2) / (81.0 - 17.0 * alpha + 30.0 * alpha**2 * (1.0 - alpha))
+    return maxwellian_cooling_rate(alpha, gamma, C, T, m) * (1.0 + 3.0 * a2 / 16.0)
+
+
+def exponential_fit(pooled, r_lo, r_hi, v0, z=Z):
+    """The fit ln f = c0 + chi ln c - A c (b = 1) of the pooled bins inside [r_lo, r_hi], c = r/v0:
+    dict A, chi and their ci (z se from the covariance), bins."""
+    sel = (pooled["lo"] >= r_lo) & (pooled["hi"] <= r_hi)
+    if sel.sum() < 5:
+        raise ValueError(f"window [{r_lo}, {r_hi}] holds {int(sel.sum())} pooled bins, need >= 5")
+    frac = pooled["frac"][sel]
+    r, logw = _quadrature(pooled["lo"][sel], pooled["hi"][sel])
+    model, jac = _log_bin_model(r, logw, True)  # in r: a = A/v0; chi in r and in c differ by a constant
+
+    def m(x, c, a, chi):
+        return model(x, c, a, 1.0, chi)
+
+    def j(x, c, a, chi):
+        return jac(x, c, a, 1.0, chi)[:, [0, 1, 3]]
+    rm = 0.5 * (pooled["lo"][sel] + pooled["hi"][sel])
+    dens = frac / (4 / 3 * np.pi * (pooled["hi"][sel] ** 3 - pooled["lo"][sel] ** 3))
+    slope, icpt = np.polyfit(rm, np.log(dens), 1)
+    popt, pcov = curve_fit(m, None, np.log(frac), p0=[icpt, max(-slope, 1e-3), 0.0],
+                           sigma=pooled["se"][sel] / frac, jac=j, absolute_sigma=True,
+                           bounds=([-np.inf, 1e-12, -50.0], [np.inf, np.inf, 50.0]), method="trf",
+                           x_scale="jac", ftol=1e-12, xtol=1e-12, gtol=1e-12, max_nfev=400)
+    se = np.sqrt(np.diag(pcov))
+    return {"A": float(popt[1] * v0), "A_ci": float(z * se[1] * v0), "chi": float(popt[2]),
+            "chi_ci": float(z * se[2]), "bins": int(sel.sum())}
+
+
+def hcs_tail_summary(shells, alpha, zeta, gamma, C, T, local, max_rel_ci=0.3):
+    """One row of the table (HCS_TAIL_COLUMNS) plus the fits' details (chi, the intervals, the
+    window).
+
+    shells: local_exponent.shells_from_h5(..., steady=True) of the SWPM run; zeta its
+    /steady/cooling_rate/mean; local: pool_min_count and tail_from."""
+    v0 = thermal_speed(T)
+    A_theory = hcs_amplitude(zeta, gamma, C, T)
+    pooled = pool_shells(effective_counts(shells), local["pool_min_count"])
+    depth, r_depth = resolved_depth(shells, max_rel_ci)
+    r, ratio, _ = shell_profile(shells)
+    r_lo = float(r[np.argmax(np.nan_to_num(ratio, nan=1.0) < local["tail_from"])])
+    r_hi = resolved_limit(shells, max_rel_ci)
+    nan = float("nan")
+    try:
+        fb = tail_fit(pooled, r_lo, r_hi, chi_free=False, p0=[0.0, A_theory / v0, 1.0])
+    except (ValueError, RuntimeError):  # too few resolved bins in the tail, or no convergence
+        fb = {"b": nan, "ci_b": nan}
+    try:
+        fa = exponential_fit(pooled, r_lo, r_hi, v0)
+    except (ValueError, RuntimeError):
+        fa = {"A": nan, "A_ci": nan, "chi": nan, "chi_ci": nan}
+    return {"alpha": float(alpha), "b_swpm": float(fb["b"]), "b_swpm_ci": float(fb["ci_b"]),
+            "A_swpm": fa["A"], "A_theory": float(A_theory), "depth_swpm": float(depth),
+            "A_swpm_ci": fa["A_ci"], "chi_swpm": fa["chi"], "chi_swpm_ci": fa["chi_ci"], "zeta": float(zeta),
+            "r_depth_swpm": float(r_depth), "fit_r_lo": r_lo, "fit_r_hi": float(r_hi)}
+
+
+def hcs_tail_row_verdict(row, b_tol=0.03, A_rel=0.05, depth_goal=1e-20):
+    """(ok, text) of one row: |b - 1| <= b_tol, |A/A_theory - 1| <= A_rel, depth <= depth_goal."""
+    b, A, At, depth = (float(row[k]) for k in ("b_swpm", "A_swpm", "A_theory", "depth_swpm"))
+    dA = A / At - 1.0
+    ok = bool(np.isfinite(b) and abs(b - 1.0) <= b_tol and abs(dA) <= A_rel and depth <= depth_goal)
+    text = (f"α = {float(row['alpha']):g}: b = {b:.3f} ± {float(row['b_swpm_ci']):.3f} (theory 1), "
+            f"A = {A:.3f} against 8πγC v0/ζ = {At:.3f} ({100 * dA:+.1f} %), depth {depth:.1e}")
+    return ok, text
