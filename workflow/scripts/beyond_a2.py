@@ -18,7 +18,7 @@ from granboltz import read_run  # noqa: E402
 from granboltz.beyond import a2_item_verdict, a2_rows, theory_a2  # noqa: E402
 from granboltz.sonine import hcs_moment_threshold, maxwell_a3, second_sonine  # noqa: E402
 from granboltz.files import write_csv, write_json  # noqa: E402
-from granboltz.plotting import figure_summary, pyplot, save_figure  # noqa: E402
+from granboltz.plotting import figure_summary, label_sonine_panels, pyplot, save_figure  # noqa: E402
 
 p = snakemake.params
 rows = a2_rows([read_run(path) for path in snakemake.input.runs], p.rel_tol, p.abs_floor)
@@ -30,7 +30,6 @@ write_csv(rows, columns, snakemake.output.csv, digits=5)
 plt = pyplot()
 fig, axes = plt.subplots(2, 2, figsize=(6.3, 5.2), sharex=True)
 alpha_fine = np.linspace(0.15, 1.0, 200)
-titles = {"gaussian": "Gaussian thermostat (HCS)", "white_noise": "white noise (steady)"}
 for col, thermostat in enumerate(("gaussian", "white_noise")):
     top, bottom = axes[0, col], axes[1, col]
     s2, s3 = second_sonine(alpha_fine, thermostat)
@@ -54,12 +53,7 @@ for col, thermostat in enumerate(("gaussian", "white_noise")):
                         fmt=marker, ms=3.5, mfc="none", color="black", capsize=1.5)
     if thermostat == "gaussian":
         bottom.axvline(hcs_moment_threshold(6), color="grey", lw=0.4, ls="--")
-    for ax in (top, bottom):
-        ax.axhline(0.0, color="grey", lw=0.4)
-    top.set_title(titles[thermostat])
-    bottom.set_xlabel("$\\alpha$")
-axes[0, 0].set_ylabel("$a_2$")
-axes[1, 0].set_ylabel("$a_3$")
+label_sonine_panels(axes)
 axes[0, 0].set_ylim(-0.05, 1.0)  # Maxwell HCS: a2 -> 2 as alpha -> 0 (power-law tail)
 axes[1, 0].set_ylim(-0.1, 0.3)
 axes[1, 1].set_ylim(-0.03, 0.03)

@@ -15,7 +15,7 @@ import numpy as np  # noqa: E402
 from granboltz import read_run  # noqa: E402
 from granboltz.disks import disk_a2_rows, disk_a2_verdict, disk_item_verdict, disk_references  # noqa: E402
 from granboltz.files import write_csv, write_json  # noqa: E402
-from granboltz.plotting import figure_summary, pyplot, save_figure  # noqa: E402
+from granboltz.plotting import figure_summary, label_sonine_panels, pyplot, save_figure  # noqa: E402
 
 rows = disk_a2_rows([read_run(path) for path in snakemake.input.runs], snakemake.params.max_gap)
 columns = ["thermostat", "alpha", "n", "N", "a2", "a2_ci", "a3", "a3_ci", "vne_a2", "sonine2_a2", "sonine2_a3", "gap",
@@ -26,7 +26,6 @@ write_csv(rows, columns, snakemake.output.csv, digits=5)
 plt = pyplot()
 fig, axes = plt.subplots(2, 2, figsize=(6.3, 4.8), sharex=True, gridspec_kw={"height_ratios": [3, 2], "wspace": 0.35})
 alpha_fine = np.linspace(0.15, 1.0, 200)
-titles = {"gaussian": "Gaussian thermostat (HCS)", "white_noise": "white noise (steady)"}
 for column, thermostat in enumerate(("gaussian", "white_noise")):
     top, bottom = axes[:, column]
     refs = np.array([disk_references(thermostat, a) for a in alpha_fine])
@@ -41,12 +40,7 @@ for column, thermostat in enumerate(("gaussian", "white_noise")):
                          fmt=marker, ms=3.5, mfc="none", color="black", capsize=1.5, label=label)
             bottom.errorbar([r["alpha"] for r in pts], [r["a3"] for r in pts], yerr=[r["a3_ci"] for r in pts],
                             fmt=marker, ms=3.5, mfc="none", color="black", capsize=1.5)
-    for ax in (top, bottom):
-        ax.axhline(0.0, color="grey", lw=0.4)
-    top.set_title(titles[thermostat])
-    bottom.set_xlabel("$\\alpha$")
-axes[0, 0].set_ylabel("$a_2$")
-axes[1, 0].set_ylabel("$a_3$")
+label_sonine_panels(axes)
 legend = {}  # one legend for all panels, below them: the curves fill the panels
 for ax in axes[0]:
     legend.update(zip(*reversed(ax.get_legend_handles_labels())))

@@ -32,6 +32,23 @@ constexpr double kLightestWeight = 1e-250;
 // Gaussian thermostat: the lazy scale is folded into the velocities once s^2 passes this (as in
 // the constant-weight engine), besides at every sweep, reduction and observation.
 constexpr double kRefold = 0x1p8;
+
+// The weighted centre of a particle set: total weight G, mean velocity V = sum g v / G, and the
+// centred energy E = sum g |v - V|^2 (summed in particle order, as every caller did before).
+struct WeightedCentre {
+  double G = 0.0;
+  Vec3 V;
+  double E = 0.0;
+};
+
+WeightedCentre weighted_centre(std::span<const Particle> p, std::span<const double> g) {
+  WeightedCentre c;
+  Vec3 M;
+  for (std::size_t i = 0; i < p.size(); ++i) c.G += g[i], M += g[i] * p[i].v;
+  c.V = (1.0 / c.G) * M;
+  for (std::size_t i = 0; i < p.size(); ++i) c.E += g[i] * norm2(p[i].v - c.V);
+  return c;
+}
 }  // namespace
 
 // ---- Sum tree ----
@@ -190,12 +207,7 @@ void reduce_particles(Particles& p, std::vector<double>& g, std::size_t target,
                       Reduction reduction, Engine& eng, int dimension) {
   target = std::max<std::size_t>(target, 2);
   if (p.size() <= target) return;
-  double G = 0.0;
-  Vec3 M;
-  for (std::size_t i = 0; i < p.size(); ++i) G += g[i], M += g[i] * p[i].v;
-  const Vec3 V = (1.0 / G) * M;
-  double E = 0.0;
-  for (std::size_t i = 0; i < p.size(); ++i) E += g[i] * norm2(p[i].v - V);
+  const auto [G, V, E] = weighted_centre(p, g);
   const double h0 =
       0.5 * std::sqrt(std::max(E / (static_cast<double>(dimension) * G), 1e-300));
   double h = h0;
@@ -376,12 +388,7 @@ void WeightedEnsemble::fold_scale() {
   // the conserved V after the roulette's momentum noise (it keeps momentum only in expectation).
   // The collisions' scale s^2 is added to the cooling integral first: it is the factor by which
   // the collisions alone (not the roulette or the round-off, which f also absorbs) cooled the gas.
-  double G = 0.0;
-  Vec3 M;
-  for (std::size_t i = 0; i < p_.size(); ++i) G += g_[i], M += g_[i] * p_[i].v;
-  const Vec3 mean = (1.0 / G) * M;
-  double k = 0.0;
-  for (std::size_t i = 0; i < p_.size(); ++i) k += g_[i] * norm2(p_[i].v - mean);
+  const auto [G, mean, k] = weighted_centre(p_, g_);
   const double f = GaussianThermostat::fold_factor(c_.dimension, G, c_.initial_temperature, k);
   double e = 0.0;
   for (std::size_t i = 0; i < p_.size(); ++i) {

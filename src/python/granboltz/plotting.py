@@ -42,6 +42,22 @@ def pyplot():
     return plt
 
 
+SONINE_TITLES = {"gaussian": "Gaussian thermostat (HCS)", "white_noise": "white noise (steady)"}
+
+
+def label_sonine_panels(axes, thermostats=("gaussian", "white_noise")):
+    """Titles, zero lines and axis labels of a 2 x 2 grid of Sonine coefficients: a2 on the top row,
+    a3 below, one column per thermostat."""
+    for column, thermostat in enumerate(thermostats):
+        top, bottom = axes[:, column]
+        for ax in (top, bottom):
+            ax.axhline(0.0, color="grey", lw=0.4)
+        top.set_title(SONINE_TITLES[thermostat])
+        bottom.set_xlabel("$\\alpha$")
+    axes[0, 0].set_ylabel("$a_2$")
+    axes[1, 0].set_ylabel("$a_3$")
+
+
 def save_figure(fig, paths):
     """Save `fig` to each path (format from the extension), each atomically, then close it (pyplot
     keeps every open figure, and the tests run many scripts in one process); PDFs carry no
