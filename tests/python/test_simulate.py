@@ -138,7 +138,16 @@ def test_config_errors_are_the_clis_messages(tmp_path):
     assert list(tmp_path.iterdir()) == []
 
 
-def test_simulate_stops_on_sigint_and_leaves_nothing(tmp_path):
+@pytest.fixture
+def sigint_raises():
+    """Python's default SIGINT handler for the test's length. A job started in the background
+    (CI, nohup) inherits SIGINT ignored, and Python then installs no handler at all."""
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, previous)
+
+
+def test_simulate_stops_on_sigint_and_leaves_nothing(tmp_path, sigint_raises):
     config = _with(DSMC, particles=20000, gamma=4.0, t_end=400.0, observe_every=0.5)
     config["ensembles"] = 2
     timer = threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT))
@@ -258,7 +267,7 @@ def test_save_and_restore_continue_identically(tmp_path, name):
     assert back.counts == sim.counts
 
 
-def test_sigint_pauses_advance_and_a_later_advance_gives_the_same_bits():
+def test_sigint_pauses_advance_and_a_later_advance_gives_the_same_bits(sigint_raises):
     config = _with(DSMC, particles=20000, gamma=4.0, t_end=800.0, observe_every=800.0)
     config["ensembles"] = 1
     reference = granboltz.Simulation(config)
@@ -279,6 +288,24 @@ def test_sigint_pauses_advance_and_a_later_advance_gives_the_same_bits():
     sim.run()
     assert np.array_equal(sim.velocities, reference.velocities)
     assert sim.counts == reference.counts
+
+
+def test_an_ignored_sigint_stays_ignored():
+    config = _with(DSMC, particles=20000, gamma=4.0, t_end=800.0, observe_every=800.0)
+    config["ensembles"] = 1
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        sim = granboltz.Simulation(config)
+        start = time.monotonic()
+        timer = threading.Timer(0.3, os.kill, (os.getpid(), signal.SIGINT))
+        timer.start()
+        sim.run()  # not paused: the signal was sent while it ran, and is ignored
+        timer.join()
+        assert time.monotonic() - start > 0.3, "the run ended before the signal was sent"
+        assert sim.time == 800.0
+        assert signal.getsignal(signal.SIGINT) is signal.SIG_IGN
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 def test_the_example_of_docs_python_runs(capsys):

@@ -13,6 +13,7 @@ docs/python.md, "Running from Python".
 import os
 import pathlib
 import shutil
+import signal
 import sys
 import tempfile
 import threading
@@ -47,8 +48,13 @@ def _config_text(config):
     raise TypeError(f"config must be a dict or a path to a YAML file, not {type(config).__name__}")
 
 
-def _in_main_thread():
-    return threading.current_thread() is threading.main_thread()
+def _sigint_pauses():
+    """Whether SIGINT should pause an advance: only where Python itself would raise
+    KeyboardInterrupt (the main thread, Python's default handler). An ignored SIGINT (a job
+    started in the background or under nohup) stays ignored, and a handler of the user's own
+    runs, as Python runs it, once advance returns."""
+    return (threading.current_thread() is threading.main_thread()
+            and signal.getsignal(signal.SIGINT) is signal.default_int_handler)
 
 
 class _Bar:
@@ -85,7 +91,9 @@ def simulate(config, output=None, threads=None, progress=True):
 
     The GIL is released while the simulator runs. Ctrl-C (SIGINT) stops the run within about a
     tenth of a second (intruder and needle runs: once their ensembles under way end), removes
-    its temporary files and raises KeyboardInterrupt.
+    its temporary files and raises KeyboardInterrupt. SIGINT does what Python's handler for it
+    says: ignored (a background or nohup job) it is ignored, and a handler of your own runs
+    instead (the run goes on unless it raises).
     """
     from .run import read_run
 
@@ -183,10 +191,11 @@ class Simulation:
 
     def advance(self, t):
         """Advance to the absolute time t (>= time; for the euler and strang schemes a multiple
-        of dt = t_end/steps). The GIL is released meanwhile. Ctrl-C (SIGINT, in the main thread)
-        stops at the engine's next safe point and raises KeyboardInterrupt; time is then where it
+        of dt = t_end/steps). The GIL is released meanwhile. Ctrl-C (SIGINT, in the main thread,
+        under Python's default handler; an ignored SIGINT stays ignored) stops at the engine's
+        next safe point and raises KeyboardInterrupt; time is then where it
         stopped, and a later advance(t) continues exactly as if it had not."""
-        if not self._sim.advance(float(t), _in_main_thread()):
+        if not self._sim.advance(float(t), _sigint_pauses()):
             raise KeyboardInterrupt(f"granboltz.Simulation.advance({t}) interrupted at t = {self.time}")
         return self
 
