@@ -267,9 +267,13 @@ def test_save_and_restore_continue_identically(tmp_path, name):
     assert back.counts == sim.counts
 
 
+# One ensemble long enough (about a second) that a signal sent at 0.3 s arrives while it runs.
+INTERRUPTED = _with(DSMC, particles=20000, gamma=4.0, t_end=800.0, observe_every=800.0)
+INTERRUPTED["ensembles"] = 1
+
+
 def test_sigint_pauses_advance_and_a_later_advance_gives_the_same_bits(sigint_raises):
-    config = _with(DSMC, particles=20000, gamma=4.0, t_end=800.0, observe_every=800.0)
-    config["ensembles"] = 1
+    config = INTERRUPTED
     reference = granboltz.Simulation(config)
     start = time.monotonic()
     reference.run()
@@ -291,8 +295,7 @@ def test_sigint_pauses_advance_and_a_later_advance_gives_the_same_bits(sigint_ra
 
 
 def test_an_ignored_sigint_stays_ignored():
-    config = _with(DSMC, particles=20000, gamma=4.0, t_end=800.0, observe_every=800.0)
-    config["ensembles"] = 1
+    config = INTERRUPTED
     previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
     try:
         sim = granboltz.Simulation(config)

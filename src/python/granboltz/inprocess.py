@@ -91,9 +91,9 @@ def simulate(config, output=None, threads=None, progress=True):
 
     The GIL is released while the simulator runs. Ctrl-C (SIGINT) stops the run within about a
     tenth of a second (intruder and needle runs: once their ensembles under way end), removes
-    its temporary files and raises KeyboardInterrupt. SIGINT does what Python's handler for it
-    says: ignored (a background or nohup job) it is ignored, and a handler of your own runs
-    instead (the run goes on unless it raises).
+    its temporary files and raises KeyboardInterrupt. Python's own setting for SIGINT decides:
+    an ignored SIGINT (a background or nohup job) is ignored, and a handler of your own runs
+    instead of the stop (the run goes on unless the handler raises).
     """
     from .run import read_run
 
@@ -193,8 +193,8 @@ class Simulation:
         """Advance to the absolute time t (>= time; for the euler and strang schemes a multiple
         of dt = t_end/steps). The GIL is released meanwhile. Ctrl-C (SIGINT, in the main thread,
         under Python's default handler; an ignored SIGINT stays ignored) stops at the engine's
-        next safe point and raises KeyboardInterrupt; time is then where it
-        stopped, and a later advance(t) continues exactly as if it had not."""
+        next safe point and raises KeyboardInterrupt; time is then where it stopped, and a later
+        advance(t) continues exactly as if it had not."""
         if not self._sim.advance(float(t), _sigint_pauses()):
             raise KeyboardInterrupt(f"granboltz.Simulation.advance({t}) interrupted at t = {self.time}")
         return self
