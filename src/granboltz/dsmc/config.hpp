@@ -43,7 +43,10 @@ struct HistogramSpec {
 };
 
 /// dsmc.weights: the stochastic weighted particle method (SWPM, Rjasanow & Wagner 1996/2005).
-enum class Reduction { kEnergy, kHeatFlux };
+/// The reduction: merges of a group into two particles that keep its energy (and, kHeatFlux, its
+/// central heat flux), or kUnbiased: random weight moves that keep mass, momentum and energy
+/// exactly and every other moment in expectation (weighted.hpp, thin_group).
+enum class Reduction { kEnergy, kHeatFlux, kUnbiased };
 /// dsmc.weights.split: importance splitting along the diffusion path. Every `interval`
 /// all particles are kicked to the current time; one beyond `radius` from V heavier than twice
 /// its target weight w*(r) = (1/n) (r/radius)^2 exp(-rate (r^power - radius^power)) is split into equal
@@ -61,7 +64,10 @@ struct WeightsSpec {
   bool swpm = false;               ///< false: constant weights 1/n (the papers)
   double kappa = 0.0;              ///< kappa >= 0: pair rate (1 + kappa) max(g_i, g_j) B
   std::uint64_t max_particles = 0; ///< N_max: a reduction runs when the count exceeds it
-  Reduction reduction = Reduction::kEnergy;
+  Reduction reduction = Reduction::kUnbiased;
+  /// kUnbiased: particles lighter than min_weight times their target weight (1/n, or w*(r) with
+  /// split) are thinned away at every reduction.
+  double min_weight = 1e-30;
   SplitSpec split;                 ///< dsmc.weights.split (absent: off)
 };
 

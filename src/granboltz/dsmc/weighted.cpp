@@ -3,7 +3,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
+
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_linalg.h>
 
 #include "granboltz/config/reader.hpp"
 #include "granboltz/physics/collision.hpp"
@@ -22,13 +26,13 @@ constexpr std::uint64_t kProgressMask = (1u << 18) - 1;
 // The reduction brings the count down to this fraction of N_max: with kappa > 0 a collision adds
 // two particles, so a reduction (O(n log n)) runs once per ~N_max/10 collisions.
 constexpr double kReduceTo = 0.8;
-// The lightest weight a run accepts, relative to the initial 1/n. A collision leaves the lighter
-// partner kappa/(1 + kappa) of its weight and gives its two new particles 1/(1 + kappa) of it;
-// with few particles such lineages can outrun the roulette and the reduction until they underflow
-// (1e-308) and the observables turn into NaN. 1e-250 is far below any weight a tail needs (the
-// papers' tails reach f/f(0) = 1e-40, their lightest particles about 1e-60 of 1/n) and far enough
-// above the underflow for the collisions between two checks (a factor 5 each for kappa = 1/4).
-constexpr double kLightestWeight = 1e-250;
+// No weight falls below this fraction of the initial 1/n (weighted_collide's floor, and the dust
+// thinning at every reduction): a collision leaves the lighter partner kappa/(1 + kappa) of its
+// weight, and lineages of light particles used to collide on until their weights underflowed
+// (1e-308) and the observables turned into NaN. 1e-200 of 1/n is far below any weight a tail
+// needs (the papers' tails reach f/f(0) = 1e-40, their lightest particles about 1e-60 of 1/n) and
+// below the round-off of every sum over the particles, so what the floor drops or moves is not seen.
+constexpr double kWeightFloor = 1e-200;
 // Gaussian thermostat: the lazy scale is folded into the velocities once s^2 passes this (as in
 // the constant-weight engine), besides at every sweep, reduction and observation.
 constexpr double kRefold = 0x1p8;
@@ -109,17 +113,21 @@ Vec3 weighted_heat_flux(std::span<const Particle> p, std::span<const double> g) 
 namespace {
 // The weights' part of a weighted collision, given the post-collision velocities.
 int replace_or_append(Particles& p, std::vector<double>& g, std::size_t a, std::size_t b, Vec3 va,
-                      Vec3 vb, double kappa, double t) {
+                      Vec3 vb, double kappa, double t, double floor) {
   // gamma = min(g_a, g_b)/(1 + kappa): for kappa = 0 the lighter partner's remainder is exactly
   // 0 (x - x/1 = x - x), and with equal weights both are replaced: ordinary DSMC.
-  const double gamma = std::min(g[a], g[b]) / (1.0 + kappa);
+  double gamma = std::min(g[a], g[b]) / (1.0 + kappa);
+  // Below the floor the collision moves the whole lighter weight (as for kappa = 0) and a
+  // remainder below it is dropped: no weight ever falls below the floor, so none can underflow.
+  // Only particles lighter than (1 + kappa) floor collide otherwise.
+  if (gamma < floor) gamma = std::min(g[a], g[b]);
   int appended = 0;
   const std::size_t idx[2] = {a, b};
   const Vec3 post[2] = {va, vb};
   for (int k = 0; k < 2; ++k) {
     const std::size_t i = idx[k];
     const double rest = g[i] - gamma;
-    if (rest <= 0.0) {  // replaced: the slot becomes the new particle
+    if (rest <= 0.0 || rest < floor) {  // replaced: the slot becomes the new particle
       p[i].v = post[k];
       p[i].t = t;
       g[i] = gamma;
@@ -135,19 +143,19 @@ int replace_or_append(Particles& p, std::vector<double>& g, std::size_t a, std::
 }  // namespace
 
 int weighted_collide(Particles& p, std::vector<double>& g, std::size_t a, std::size_t b, Vec3 e,
-                     double alpha, double kappa, double t) {
+                     double alpha, double kappa, double t, double floor) {
   Vec3 va = p[a].v, vb = p[b].v;
   collide(va, vb, e, alpha);
-  return replace_or_append(p, g, a, b, va, vb, kappa, t);
+  return replace_or_append(p, g, a, b, va, vb, kappa, t, floor);
 }
 
 int weighted_collide(Particles& p, std::vector<double>& g, std::size_t a, std::size_t b, Vec3 e,
-                     const RestitutionLaw& law, double kappa, double t, double s2) {
+                     const RestitutionLaw& law, double kappa, double t, double s2, double floor) {
   if (const auto* k = std::get_if<ConstantRestitution>(&law))
-    return weighted_collide(p, g, a, b, e, k->alpha, kappa, t);
+    return weighted_collide(p, g, a, b, e, k->alpha, kappa, t, floor);
   Vec3 va = p[a].v, vb = p[b].v;
   collide_law(va, vb, e, law, s2);
-  return replace_or_append(p, g, a, b, va, vb, kappa, t);
+  return replace_or_append(p, g, a, b, va, vb, kappa, t, floor);
 }
 
 void merge_group(Particles& p, std::vector<double>& g, std::span<const std::uint32_t> members,
@@ -203,8 +211,160 @@ void compact(Particles& p, std::vector<double>& g) {
 }
 }  // namespace
 
+std::size_t thin_step(Particles& p, std::vector<double>& g, std::span<const std::uint32_t> step,
+                      int dimension, Engine& eng) {
+  // K conserved sums (mass, the d momenta, energy) over m = K + 1 particles leave (at least) one
+  // direction delta of weight changes with A delta = 0, A the K x m matrix of 1, v, |v|^2: moving
+  // the weights along it keeps those sums for any step lambda, and every other sum
+  // sum g f(v) changes by lambda sum delta_i f(v_i). Stepping to the first zero weight in the
+  // direction +delta (lambda_+) with probability lambda_-/(lambda_+ + lambda_-), else to the first
+  // in -delta (-lambda_-), gives E[lambda] = 0: one particle fewer, the K sums exact, every other
+  // sum unchanged in expectation (the "agnostic conservative down-sampling" of Gonoskov, Comput.
+  // Phys. Commun. 271 (2022) 108200). No velocity is created or moved, only weights. A particle
+  // far lighter than the others of its step goes with probability near 1, and its weight is all
+  // that moves.
+  const std::size_t K = static_cast<std::size_t>(dimension) + 2, m = K + 1;
+  if (step.size() != m) throw std::logic_error("thin_step: needs d + 3 particles");
+  // The null space of A is that of any invertible row combination of it: the velocities are
+  // centred and scaled on the step, which keeps the QR well conditioned.
+  Vec3 c;
+  for (std::uint32_t i : step) c += p[i].v;
+  c = (1.0 / static_cast<double>(m)) * c;
+  double spread = 0.0;
+  for (std::uint32_t i : step) spread += norm2(p[i].v - c);
+  const double inv = spread > 0.0 ? std::sqrt(static_cast<double>(m) / spread) : 1.0;
+  std::array<double, 6 * 5> at{};  // A transposed, m x K, row-major
+  for (std::size_t r = 0; r < m; ++r) {
+    const Vec3 u = inv * (p[step[r]].v - c);
+    double* row = &at[r * K];
+    row[0] = 1.0;
+    row[1] = u.x;
+    row[2] = u.y;
+    if (dimension == 3) row[3] = u.z;
+    row[K - 1] = norm2(u);
+  }
+  // delta = the last column of Q in A^T = Q R (Householder, no allocation): orthogonal to the
+  // columns of A^T, i.e. A delta = 0, whatever the rank.
+  std::array<double, 5> tau{};
+  std::array<double, 6> delta{};
+  delta[m - 1] = 1.0;
+  gsl_matrix_view A = gsl_matrix_view_array(at.data(), m, K);
+  gsl_vector_view T = gsl_vector_view_array(tau.data(), K);
+  gsl_vector_view D = gsl_vector_view_array(delta.data(), m);
+  if (gsl_linalg_QR_decomp(&A.matrix, &T.vector) != GSL_SUCCESS ||
+      gsl_linalg_QR_Qvec(&A.matrix, &T.vector, &D.vector) != GSL_SUCCESS)
+    throw std::runtime_error("dsmc.weights: the unbiased reduction's QR failed");
+  double up = std::numeric_limits<double>::infinity(), down = up;
+  std::size_t k_up = m, k_down = m;
+  for (std::size_t r = 0; r < m; ++r) {
+    const double w = g[step[r]];
+    if (delta[r] < 0.0 && w / -delta[r] < up) up = w / -delta[r], k_up = r;
+    if (delta[r] > 0.0 && w / delta[r] < down) down = w / delta[r], k_down = r;
+  }
+  if (k_up == m || k_down == m) return 0;  // sum delta = 0: both signs, up to round-off
+  const bool go_up = uniform01(eng) * (up + down) < down;
+  const double lambda = go_up ? up : -down;
+  const std::size_t gone = go_up ? k_up : k_down;
+  std::size_t removed = 0;
+  for (std::size_t r = 0; r < m; ++r) {
+    double& w = g[step[r]];
+    const double before = w;
+    w = r == gone ? 0.0 : w + lambda * delta[r];
+    if (w <= 0x1p-46 * before) w = 0.0, ++removed;  // `gone`, and a tie with it (to round-off)
+  }
+  return removed;
+}
+
+namespace {
+// kUnbiased: thinning by thin_step until the count is at most `target`. The particles are binned
+// as for the merges; in every cell the candidates are ranked by their share of the cell's
+// weight, g_i / W_cell, smallest first over all cells, and each candidate's step takes the d + 2
+// lightest others of its cell: the light particles of the crowded cells go first, the tail's
+// sparse cells are left alone, and a step's weight goes to the light particles next to it, so
+// that they grow towards their neighbours' weights. Only particles up to w_cap = 2 G / target take
+// part: the survivors of a thinning gain the removed weight, and without the cap those of many
+// reductions grew heavy (measured in the HCS at alpha = 0.6, n = 120, N_max = 360: the
+// effective number (sum g)^2 / sum g^2 fell from 120 to 25-35, the heaviest at 10/n). The cap is
+// doubled only if one cell of everyone cannot reach the target. Thinning moves weight only within
+// a cell, so the ranking stays valid while the cell is thinned.
+void thin_particles(Particles& p, std::vector<double>& g, std::size_t target, Engine& eng,
+                    int dimension) {
+  const std::size_t K = static_cast<std::size_t>(dimension) + 2;
+  target = std::max(target, K + 1);
+  if (p.size() <= target) return;
+  const auto [G, V, E] = weighted_centre(p, g);
+  const double h0 = 0.5 * std::sqrt(std::max(E / (static_cast<double>(dimension) * G), 1e-300));
+  double h = h0;
+  double w_cap = 2.0 * G / static_cast<double>(target);
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed;
+  struct Candidate {
+    double share;
+    std::uint32_t cell, index;
+  };
+  std::vector<Candidate> ranked;
+  std::vector<std::pair<std::size_t, std::size_t>> cells;  // (start, length) in `keyed`
+  std::vector<std::size_t> alive;
+  std::array<std::uint32_t, 6> step{};
+  while (p.size() > target) {
+    // Only the particles up to w_cap, keyed by cell and, within a cell, lightest first.
+    keyed.clear();
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      if (g[i] > w_cap) continue;
+      const Vec3 w = (1.0 / h) * (p[i].v - V);
+      auto bin = [](double x) {
+        return static_cast<std::uint64_t>(std::floor(std::clamp(x, -0x1p20, 0x1p20 - 1)) + 0x1p20);
+      };
+      keyed.push_back({(bin(w.x) << 42) | (bin(w.y) << 21) | bin(w.z), static_cast<std::uint32_t>(i)});
+    }
+    std::sort(keyed.begin(), keyed.end(), [&](const auto& x, const auto& y) {
+      if (x.first != y.first) return x.first < y.first;
+      return g[x.second] < g[y.second] || (g[x.second] == g[y.second] && x.second < y.second);
+    });
+    cells.clear();
+    ranked.clear();
+    for (std::size_t s = 0; s < keyed.size();) {
+      std::size_t e = s + 1;
+      while (e < keyed.size() && keyed[e].first == keyed[s].first) ++e;
+      if (e - s >= K + 1) {
+        double W = 0.0;
+        for (std::size_t k = s; k < e; ++k) W += g[keyed[k].second];
+        const auto id = static_cast<std::uint32_t>(cells.size());
+        for (std::size_t k = s; k < e; ++k)
+          ranked.push_back({g[keyed[k].second] / W, id, keyed[k].second});
+        cells.push_back({s, e - s});
+      }
+      s = e;
+    }
+    std::sort(ranked.begin(), ranked.end(), [](const Candidate& x, const Candidate& y) {
+      return x.share < y.share || (x.share == y.share && x.index < y.index);
+    });
+    alive.assign(cells.size(), 0);
+    for (std::size_t c = 0; c < cells.size(); ++c) alive[c] = cells[c].second;
+    std::size_t count = p.size();
+    for (const Candidate& x : ranked) {
+      if (count <= target) break;
+      if (g[x.index] == 0.0 || alive[x.cell] <= K) continue;
+      step[0] = x.index;
+      std::size_t filled = 1;
+      const auto [start, len] = cells[x.cell];
+      for (std::size_t k = start; k < start + len && filled <= K; ++k) {
+        const std::uint32_t j = keyed[k].second;
+        if (j != x.index && g[j] > 0.0) step[filled++] = j;
+      }
+      const std::size_t removed = thin_step(p, g, std::span(step.data(), K + 1), dimension, eng);
+      count -= removed;
+      alive[x.cell] -= removed;
+    }
+    compact(p, g);
+    h *= 2.0;  // not yet enough: coarser cells
+    if (h > 64.0 * h0) h = h0, w_cap *= 2.0;  // one cell holds everyone: a higher cap
+  }
+}
+}  // namespace
+
 void reduce_particles(Particles& p, std::vector<double>& g, std::size_t target,
                       Reduction reduction, Engine& eng, int dimension) {
+  if (reduction == Reduction::kUnbiased) return thin_particles(p, g, target, eng, dimension);
   target = std::max<std::size_t>(target, 2);
   if (p.size() <= target) return;
   const auto [G, V, E] = weighted_centre(p, g);
@@ -353,6 +513,7 @@ WeightedEnsemble::WeightedEnsemble(const DsmcConfig& config, std::uint64_t seed,
                          : 1.0),
       heated_(config.thermostat == Thermostat::kWhiteNoise && config.beta > 0.0),
       gaussian_(config.thermostat == Thermostat::kGaussian),
+      floor_(kWeightFloor / static_cast<double>(config.particles)),
       events_(make_stream(seed, ensemble, Consumer::kEvents)),
       pairs_(make_stream(seed, ensemble, Consumer::kPairs)),
       sweep_(make_stream(seed, ensemble, Consumer::kSweep)),
@@ -444,6 +605,7 @@ void WeightedEnsemble::kick_all_to(double s) {
 void WeightedEnsemble::reduce_to_cap() {
   if (p_.size() <= c_.weights.max_particles) return;
   kick_all_to(t_);  // a group is merged at one time
+  thin_dust();
   reduce_particles(p_, g_,
                    static_cast<std::size_t>(kReduceTo * static_cast<double>(c_.weights.max_particles)),
                    c_.weights.reduction, reduce_, c_.dimension);
@@ -452,23 +614,53 @@ void WeightedEnsemble::reduce_to_cap() {
     fold_scale();
     recompute_majorant();
   }
-  check_weights();
 }
 
-void WeightedEnsemble::check_weights() const {
+void WeightedEnsemble::thin_dust() {
+  // Dust: a particle lighter than its threshold, floor_ or, for the unbiased reduction,
+  // min_weight times the target weight of its place (1/n; with splitting w*(r), as the split
+  // sweep's). Without this, the light particles that collisions keep making (each one makes two
+  // more) end up holding most of the slots and, in the tail, most of the events: measured in the
+  // HCS at alpha = 0.6, n = 120, N_max = 360, 290 of 330 particles weighed below 1e-20/n at speeds
+  // 6-38 sqrt(T) and the events per unit time grew without bound. A dust particle is removed by
+  // thin_step with the d + 2 heaviest particles as partners: exact mass, momentum and energy,
+  // every other moment in expectation, and what moves is the dust's weight, below the threshold.
   const double g_ref = 1.0 / static_cast<double>(c_.particles);
-  const double lightest = g_.empty() ? g_ref : *std::min_element(g_.begin(), g_.end());
-  if (lightest >= kLightestWeight * g_ref) return;
-  // Measured: GRW05 Ex. 8 with n = N_max / 2 = 500 or 1000 stops before t = 2, with n = 2000 or
-  // kappa = 1 it does not (and the papers' N_max = 8000 runs to t = 4 with weights above 1e-50).
-  throw std::runtime_error(
-      "dsmc.weights: a particle's weight fell to " + format_real(lightest / g_ref) +
-      " of the initial 1/n at t = " + format_real(t_) +
-      ", below 1e-250, where its next collisions underflow: a lineage of light particles "
-      "collides faster than the split sweeps' roulette and the reduction remove it (each "
-      "collision leaves the lighter partner kappa/(1 + kappa) of its weight); raise "
-      "dsmc.weights.max_particles (now " + std::to_string(c_.weights.max_particles) +
-      ") or dsmc.weights.kappa (now " + format_real(c_.weights.kappa) + ")");
+  const bool relative = c_.weights.reduction == Reduction::kUnbiased;
+  const SplitSpec& sp = c_.weights.split;
+  auto threshold = [&](const Particle& q) {
+    if (!relative) return floor_;
+    const double target =
+        sp.on ? std::min(split_scale_ * split_target(sp, g_ref, norm(q.v - v0_)), g_ref) : g_ref;
+    return std::max(floor_, c_.weights.min_weight * target);
+  };
+  std::vector<std::uint32_t> dust;
+  for (std::size_t i = 0; i < p_.size(); ++i)
+    if (g_[i] < threshold(p_[i])) dust.push_back(static_cast<std::uint32_t>(i));
+  if (dust.empty()) return;
+  const std::size_t K = static_cast<std::size_t>(c_.dimension) + 2;
+  if (p_.size() - dust.size() < K) return;  // nothing to move it to (a near-empty system)
+  std::vector<std::uint32_t> heavy(p_.size());
+  std::array<std::uint32_t, 6> step{};
+  auto pick_partners = [&] {  // the K heaviest (ties by index)
+    heavy.resize(p_.size());
+    for (std::size_t i = 0; i < p_.size(); ++i) heavy[i] = static_cast<std::uint32_t>(i);
+    std::partial_sort(heavy.begin(), heavy.begin() + static_cast<std::ptrdiff_t>(K), heavy.end(),
+                      [&](std::uint32_t x, std::uint32_t y) {
+                        return g_[x] > g_[y] || (g_[x] == g_[y] && x < y);
+                      });
+    for (std::size_t k = 0; k < K; ++k) step[k + 1] = heavy[k];
+  };
+  pick_partners();
+  for (std::uint32_t d : dust) {
+    if (g_[d] == 0.0) continue;
+    bool fresh = true;
+    for (std::size_t k = 1; k <= K; ++k) fresh = fresh && g_[step[k]] > 0.0 && step[k] != d;
+    if (!fresh) pick_partners();
+    step[0] = d;
+    thin_step(p_, g_, std::span(step.data(), K + 1), c_.dimension, reduce_);
+  }
+  compact(p_, g_);
 }
 
 void WeightedEnsemble::split_sweep() {
@@ -493,7 +685,6 @@ void WeightedEnsemble::split_sweep() {
     recompute_majorant();
   }
   reduce_to_cap();
-  check_weights();
   rebuild_tree();
   if (c_.kernel.lambda != 0.0)
     for (const auto& q : p_) adapt_majorant(q.v);
@@ -559,10 +750,10 @@ bool WeightedEnsemble::advance_with(double s, const std::atomic<bool>* pause) {
       double e_before = 0.0;
       if (gaussian_) e_before = gi * norm2(a.v - v0_) + gj * norm2(b.v - v0_);
       if (constant_law) [[likely]]
-        weighted_collide(p_, g_, i, j, Geo::direction(a.v - b.v, events_), alpha, kappa, t_);
+        weighted_collide(p_, g_, i, j, Geo::direction(a.v - b.v, events_), alpha, kappa, t_, floor_);
       else
         weighted_collide(p_, g_, i, j, Geo::direction(a.v - b.v, events_), c_.restitution, kappa,
-                         t_, gaussian_ ? gauss_.s2 : 1.0);
+                         t_, gaussian_ ? gauss_.s2 : 1.0, floor_);
       if (gaussian_) {
         // The change of sum g |w - V|^2: the partners' slots and the appended particles.
         double e_after = g_[i] * norm2(p_[i].v - v0_) + g_[j] * norm2(p_[j].v - v0_);
@@ -631,6 +822,7 @@ WeightedEnsemble::WeightedEnsemble(const DsmcConfig& config, const H5Reader& in,
                          : 1.0),
       heated_(config.thermostat == Thermostat::kWhiteNoise && config.beta > 0.0),
       gaussian_(config.thermostat == Thermostat::kGaussian),
+      floor_(kWeightFloor / static_cast<double>(config.particles)),
       events_(read_engine(in, g + "/events_stream")),
       pairs_(read_engine(in, g + "/pairs_stream")),
       sweep_(read_engine(in, g + "/sweep_stream")),

@@ -53,14 +53,17 @@ Vec3 weighted_heat_flux(std::span<const Particle> p, std::span<const double> g);
 /// particle (its slot is reused), otherwise the new particle is appended. Returns the number of
 /// particles appended (0, 1 or 2). Conserves mass and momentum; the energy changes by
 /// gamma * energy_change(v_a, v_b, e, alpha) (exactly 0 for alpha = 1), all to round-off.
+/// `floor` > 0: weights stay >= floor; a pair whose gamma would be below it moves the whole lighter
+/// weight (gamma = min(g_a, g_b)), and a remainder below it is dropped (the slot is replaced).
 int weighted_collide(Particles& p, std::vector<double>& g, std::size_t a, std::size_t b, Vec3 e,
-                     double alpha, double kappa, double t);
+                     double alpha, double kappa, double t, double floor = 0.0);
 /// The same with a restitution law eps(g_n) (restitution/collide.hpp): the constant law is the
 /// call above with its alpha, bit for bit.
 /// `s2`: the Gaussian thermostat's lazy scale squared, so that eps(g_n) sees the true normal speed
 /// (the stored one times s); 1 without it.
 int weighted_collide(Particles& p, std::vector<double>& g, std::size_t a, std::size_t b, Vec3 e,
-                     const RestitutionLaw& law, double kappa, double t, double s2 = 1.0);
+                     const RestitutionLaw& law, double kappa, double t, double s2 = 1.0,
+                     double floor = 0.0);
 
 /// Replaces the group `members` (at least 3 particles) by two particles that keep its mass,
 /// momentum and energy, and for kHeatFlux also its central heat flux, placed in the first two
@@ -69,7 +72,16 @@ int weighted_collide(Particles& p, std::vector<double>& g, std::size_t a, std::s
 void merge_group(Particles& p, std::vector<double>& g, std::span<const std::uint32_t> members,
                  Reduction reduction, Vec3 e);
 
-/// Reduces the system to at most `target` particles by merging crowded groups: the particles are
+/// One step of the unbiased reduction on the d + 3 particles `step` (all kicked to one time):
+/// their weights move along the direction that keeps sum g, sum g v and sum g |v|^2, to the first
+/// zero weight on one side or the other, chosen so that the move is zero in expectation. Every
+/// other sum g f(v) is kept in expectation; no velocity is created or changed. Returns the number
+/// of weights set to 0 (1, or more on a tie; the caller compacts).
+std::size_t thin_step(Particles& p, std::vector<double>& g, std::span<const std::uint32_t> step,
+                      int dimension, Engine& eng);
+
+/// Reduces the system to at most `target` particles by merging (kEnergy, kHeatFlux) or thinning
+/// (kUnbiased) crowded groups: the particles are
 /// binned on a cubic grid of width h sqrt(T) about the bulk velocity (h = 1/2, doubled until
 /// enough particles can be merged) and the most crowded cells (at least 3 particles) are merged
 /// first, so that sparse cells, the light tail particles among them, survive. Removes the
@@ -138,7 +150,7 @@ class WeightedEnsemble {
   void kick_all_to(double s);
   void reduce_to_cap();
   void split_sweep();
-  void check_weights() const;  // throws if a weight has come near the underflow
+  void thin_dust();    // removes the particles lighter than their threshold (weighted.cpp)
   // Gaussian thermostat: the stored velocities w relate to the true ones by v = V + s (w - V),
   // V = v0_, s^2 = gauss_.s2, as in the constant-weight engine (the weighted collision map is
   // linear in the velocities, so it commutes with the scale; the weights do not see it).
@@ -155,6 +167,7 @@ class WeightedEnsemble {
   double adapt_factor2_;
   bool heated_;
   bool gaussian_;             // dsmc.thermostat: gaussian
+  double floor_;              // no weight is below it: kWeightFloor/n
   GaussianThermostat gauss_;  // energy = sum g |w - V|^2, kept current collision by collision
   double cooled_ = 0.0;       // sum of ln s^2 over the folds: the integral of zeta up to the last
   double mark_cooled_ = 0.0, mark_time_ = 0.0;  // cooling_integral() and t at mark_cooling()
