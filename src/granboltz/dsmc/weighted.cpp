@@ -6,8 +6,6 @@
 #include <limits>
 #include <stdexcept>
 
-#include <gsl/gsl_errno.h>
-#include <gsl/gsl_linalg.h>
 
 #include "granboltz/config/reader.hpp"
 #include "granboltz/physics/collision.hpp"
@@ -211,6 +209,56 @@ void compact(Particles& p, std::vector<double>& g) {
 }
 }  // namespace
 
+namespace {
+// A unit vector delta with A delta = 0, A the K x (K + 1) matrix whose columns are the rows of
+// `at` ((K + 1) x K, row-major, K <= 5), by Gaussian elimination of A with full pivoting: the
+// first column without a pivot is set to 1, the pivot columns are solved for by back-substitution
+// (a rank below K leaves more free columns, set to 0). Written out rather than a GSL QR: for a
+// 5 x 6 matrix the calls into GSL and its BLAS cost about ten times the arithmetic, and a
+// reduction runs up to a few thousand of these.
+void null_vector(const double* at, std::size_t K, double* delta) {
+  const std::size_t m = K + 1;
+  double a[5][6];
+  for (std::size_t r = 0; r < K; ++r)
+    for (std::size_t c = 0; c < m; ++c) a[r][c] = at[c * K + r];
+  std::size_t col[6];
+  for (std::size_t c = 0; c < m; ++c) col[c] = c;
+  double scale = 0.0;
+  for (std::size_t r = 0; r < K; ++r)
+    for (std::size_t c = 0; c < m; ++c) scale = std::max(scale, std::fabs(a[r][c]));
+  std::size_t rank = 0;
+  for (; rank < K; ++rank) {
+    std::size_t pr = rank, pc = rank;
+    double best = 0.0;
+    for (std::size_t r = rank; r < K; ++r)
+      for (std::size_t c = rank; c < m; ++c)
+        if (std::fabs(a[r][c]) > best) best = std::fabs(a[r][c]), pr = r, pc = c;
+    if (!(best > 0x1p-40 * scale)) break;  // the rest is round-off: rank found
+    if (pr != rank)
+      for (std::size_t c = 0; c < m; ++c) std::swap(a[rank][c], a[pr][c]);
+    if (pc != rank) {
+      for (std::size_t r = 0; r < K; ++r) std::swap(a[r][rank], a[r][pc]);
+      std::swap(col[rank], col[pc]);
+    }
+    for (std::size_t r = rank + 1; r < K; ++r) {
+      const double f = a[r][rank] / a[rank][rank];
+      for (std::size_t c = rank; c < m; ++c) a[r][c] -= f * a[rank][c];
+    }
+  }
+  double x[6] = {0, 0, 0, 0, 0, 0};
+  x[rank] = 1.0;  // the first free column (rank <= K < m)
+  for (std::size_t r = rank; r-- > 0;) {
+    double sum = a[r][rank];
+    for (std::size_t c = r + 1; c < rank; ++c) sum += a[r][c] * x[c];
+    x[r] = -sum / a[r][r];
+  }
+  double norm2 = 0.0;
+  for (std::size_t c = 0; c < m; ++c) norm2 += x[c] * x[c];
+  const double inv = 1.0 / std::sqrt(norm2);
+  for (std::size_t c = 0; c < m; ++c) delta[col[c]] = inv * x[c];
+}
+}  // namespace
+
 std::size_t thin_step(Particles& p, std::vector<double>& g, std::span<const std::uint32_t> step,
                       int dimension, Engine& eng) {
   // K conserved sums (mass, the d momenta, energy) over m = K + 1 particles leave (at least) one
@@ -226,14 +274,14 @@ std::size_t thin_step(Particles& p, std::vector<double>& g, std::span<const std:
   const std::size_t K = static_cast<std::size_t>(dimension) + 2, m = K + 1;
   if (step.size() != m) throw std::logic_error("thin_step: needs d + 3 particles");
   // The null space of A is that of any invertible row combination of it: the velocities are
-  // centred and scaled on the step, which keeps the QR well conditioned.
+  // centred and scaled on the step, which keeps the elimination well conditioned.
   Vec3 c;
   for (std::uint32_t i : step) c += p[i].v;
   c = (1.0 / static_cast<double>(m)) * c;
   double spread = 0.0;
   for (std::uint32_t i : step) spread += norm2(p[i].v - c);
   const double inv = spread > 0.0 ? std::sqrt(static_cast<double>(m) / spread) : 1.0;
-  std::array<double, 6 * 5> at{};  // A transposed, m x K, row-major
+  std::array<double, 6 * 5> at{};  // A transposed: row r = (1, u, |u|^2) of particle r
   for (std::size_t r = 0; r < m; ++r) {
     const Vec3 u = inv * (p[step[r]].v - c);
     double* row = &at[r * K];
@@ -243,17 +291,8 @@ std::size_t thin_step(Particles& p, std::vector<double>& g, std::span<const std:
     if (dimension == 3) row[3] = u.z;
     row[K - 1] = norm2(u);
   }
-  // delta = the last column of Q in A^T = Q R (Householder, no allocation): orthogonal to the
-  // columns of A^T, i.e. A delta = 0, whatever the rank.
-  std::array<double, 5> tau{};
   std::array<double, 6> delta{};
-  delta[m - 1] = 1.0;
-  gsl_matrix_view A = gsl_matrix_view_array(at.data(), m, K);
-  gsl_vector_view T = gsl_vector_view_array(tau.data(), K);
-  gsl_vector_view D = gsl_vector_view_array(delta.data(), m);
-  if (gsl_linalg_QR_decomp(&A.matrix, &T.vector) != GSL_SUCCESS ||
-      gsl_linalg_QR_Qvec(&A.matrix, &T.vector, &D.vector) != GSL_SUCCESS)
-    throw std::runtime_error("dsmc.weights: the unbiased reduction's QR failed");
+  null_vector(at.data(), K, delta.data());
   double up = std::numeric_limits<double>::infinity(), down = up;
   std::size_t k_up = m, k_down = m;
   for (std::size_t r = 0; r < m; ++r) {
@@ -303,7 +342,7 @@ void thin_particles(Particles& p, std::vector<double>& g, std::size_t target, En
   };
   std::vector<Candidate> ranked;
   std::vector<std::pair<std::size_t, std::size_t>> cells;  // (start, length) in `keyed`
-  std::vector<std::size_t> alive;
+  std::vector<std::size_t> alive, first;  // per cell: members left, first one not removed
   std::array<std::uint32_t, 6> step{};
   while (p.size() > target) {
     // Only the particles up to w_cap, keyed by cell and, within a cell, lightest first.
@@ -316,16 +355,16 @@ void thin_particles(Particles& p, std::vector<double>& g, std::size_t target, En
       };
       keyed.push_back({(bin(w.x) << 42) | (bin(w.y) << 21) | bin(w.z), static_cast<std::uint32_t>(i)});
     }
-    std::sort(keyed.begin(), keyed.end(), [&](const auto& x, const auto& y) {
-      if (x.first != y.first) return x.first < y.first;
-      return g[x.second] < g[y.second] || (g[x.second] == g[y.second] && x.second < y.second);
-    });
+    std::sort(keyed.begin(), keyed.end());  // by cell, then index
     cells.clear();
     ranked.clear();
     for (std::size_t s = 0; s < keyed.size();) {
       std::size_t e = s + 1;
       while (e < keyed.size() && keyed[e].first == keyed[s].first) ++e;
       if (e - s >= K + 1) {
+        std::stable_sort(keyed.begin() + static_cast<std::ptrdiff_t>(s),
+                         keyed.begin() + static_cast<std::ptrdiff_t>(e),
+                         [&](const auto& x, const auto& y) { return g[x.second] < g[y.second]; });
         double W = 0.0;
         for (std::size_t k = s; k < e; ++k) W += g[keyed[k].second];
         const auto id = static_cast<std::uint32_t>(cells.size());
@@ -339,7 +378,9 @@ void thin_particles(Particles& p, std::vector<double>& g, std::size_t target, En
       return x.share < y.share || (x.share == y.share && x.index < y.index);
     });
     alive.assign(cells.size(), 0);
-    for (std::size_t c = 0; c < cells.size(); ++c) alive[c] = cells[c].second;
+    first.assign(cells.size(), 0);
+    for (std::size_t c = 0; c < cells.size(); ++c)
+      alive[c] = cells[c].second, first[c] = cells[c].first;
     std::size_t count = p.size();
     for (const Candidate& x : ranked) {
       if (count <= target) break;
@@ -347,7 +388,10 @@ void thin_particles(Particles& p, std::vector<double>& g, std::size_t target, En
       step[0] = x.index;
       std::size_t filled = 1;
       const auto [start, len] = cells[x.cell];
-      for (std::size_t k = start; k < start + len && filled <= K; ++k) {
+      // The lightest go first, so the cell's removed members gather at its front: skip them once.
+      std::size_t& k0 = first[x.cell];
+      while (k0 < start + len && g[keyed[k0].second] == 0.0) ++k0;
+      for (std::size_t k = k0; k < start + len && filled <= K; ++k) {
         const std::uint32_t j = keyed[k].second;
         if (j != x.index && g[j] > 0.0) step[filled++] = j;
       }
@@ -634,9 +678,11 @@ void WeightedEnsemble::thin_dust() {
         sp.on ? std::min(split_scale_ * split_target(sp, g_ref, norm(q.v - v0_)), g_ref) : g_ref;
     return std::max(floor_, c_.weights.min_weight * target);
   };
+  // Every threshold is at most max(floor_, min_weight / n): only lighter particles need w*(r).
+  const double ceiling = relative ? std::max(floor_, c_.weights.min_weight * g_ref) : floor_;
   std::vector<std::uint32_t> dust;
   for (std::size_t i = 0; i < p_.size(); ++i)
-    if (g_[i] < threshold(p_[i])) dust.push_back(static_cast<std::uint32_t>(i));
+    if (g_[i] < ceiling && g_[i] < threshold(p_[i])) dust.push_back(static_cast<std::uint32_t>(i));
   if (dust.empty()) return;
   const std::size_t K = static_cast<std::size_t>(c_.dimension) + 2;
   if (p_.size() - dust.size() < K) return;  // nothing to move it to (a near-empty system)
