@@ -103,3 +103,18 @@ def test_the_old_minus_one_correlation_interval_is_too_wide_under_white_noise(re
     ratio = old["white_noise"].mean() / wn[:, 0].std(ddof=1)
     assert 1.5 < ratio, ratio  # measured 2.2 over these replicas
     assert 0.7 < wn[:, 1].mean() / wn[:, 0].std(ddof=1) < 1.4  # the stored sigma: the replicas' spread
+
+
+def test_the_study_table_takes_the_stored_ratios():
+    from granboltz.study_table import observables
+
+    run = granboltz.simulate(config(5, "white_noise"), threads=1, progress=False)
+    row = observables(run)
+    th, ratio = run.steady["theta"], run.steady["temperature_ratio/heavy_over_light"]
+    assert (row["theta"], row["theta_ci"]) == (float(th.mean), float(th.ci))
+    assert (row["T_heavy/T_light"], row["T_heavy/T_light_ci"]) == (float(ratio.mean), float(ratio.ci))
+    # a file of a simulator that did not store theta: the ratio of the means, no interval to claim
+    del run.steady["theta"]
+    row = observables(run)
+    assert row["theta"] == float(run.steady["temperature_rotational"].mean) / float(run.steady["temperature"].mean)
+    assert np.isnan(row["theta_ci"])
