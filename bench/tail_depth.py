@@ -41,7 +41,7 @@ ROWS = 20
 def split_of(example):
     """dsmc.weights.split as the workflow sets it (workflow/rules/grw05_swpm.smk)."""
     lam, _, radius, r_s = EXAMPLES[example]
-    return importance_split(lam, BETA, GAMMA, C, radius, r_s)
+    return importance_split(lam, BETA, GAMMA, C, radius, r_s, d=3)
 
 
 def run_config(example, n, N, seed, weights=None):

@@ -8,10 +8,11 @@
 //
 // Each comparison is |x - y| < z sigma (+ an allowance where the reference is approximate), sigma
 // the steady intervals' standard errors (batch estimator) combined, z the two-sided family-wise
-// 0.1 % quantile over the checks of a test (test::family_z). A ratio's sigma is r sqrt((s1/x1)^2
-// + (s2/x2)^2): the covariance of the two species' temperatures is left out; it is small for a
-// tracer, and negative for a thermostat holding their sum fixed (then the sigma is too large, not
-// too small).
+// 0.1 % quantile over the checks of a test (test::family_z). A ratio (theta, T_a/T_b) is the one
+// the simulator stores, /steady/theta and /steady/temperature_ratio/<a>_over_<b>, whose sigma
+// includes the covariance of the two temperatures over the ensembles: leaving it out would make
+// the sigma too small where a thermostat holds their sum (correlation near -1), too large where
+// they move together.
 #include <gsl/gsl_cdf.h>
 #include <gtest/gtest.h>
 
@@ -38,12 +39,6 @@ struct Steady {
 
 Steady steady(const H5Reader& f, const std::string& group) {
   return {f.read_double("/steady" + group + "/mean")[0], f.read_double("/steady" + group + "/sigma")[0]};
-}
-
-/// r = x/y with the sigma of the header comment.
-Steady ratio(Steady x, Steady y) {
-  const double r = x.mean / y.mean;
-  return {r, std::fabs(r) * std::hypot(x.sigma / x.mean, y.sigma / y.mean)};
 }
 
 std::string run(const TempDir& dir, const std::string& name, const std::string& text) {
@@ -169,7 +164,7 @@ TEST(Gas, MartinPiaseckiTracer) {
             "  alpha: [[" + a + ", " + a + "], [" + a + ", 1]]\n  thermostat: gaussian\n" +
             kHardSpheres + "  t_end: 40\n  observe_every: 0.5\n  steady_from: 5\n");
     H5Reader f(out);
-    const Steady r = ratio(steady(f, "/species/tracer/temperature"), steady(f, "/species/bath/temperature"));
+    const Steady r = steady(f, "/temperature_ratio/tracer_over_bath");
     const double mp = (1 + c.alpha0) / (2 + (1 - c.alpha0) * 1.0 / c.m0);
     EXPECT_LT(std::fabs(r.mean - mp), z * r.sigma + 0.01 * mp) << "alpha0 " << c.alpha0 << ": " << r.mean
                                                                 << " +- " << r.sigma << " vs " << mp;
@@ -195,7 +190,7 @@ TEST(Gas, GarzoDuftyTemperatureRatio) {
             "  alpha: " + std::to_string(c.alpha) + "\n  thermostat: gaussian\n" + kHardSpheres +
             "  t_end: 25\n  observe_every: 0.25\n  steady_from: 5\n");
     H5Reader f(out);
-    const Steady r = ratio(steady(f, "/species/one/temperature"), steady(f, "/species/two/temperature"));
+    const Steady r = steady(f, "/temperature_ratio/one_over_two");
     EXPECT_LT(std::fabs(r.mean - c.reference), z * r.sigma + 0.02 * c.reference)
         << c.mass_ratio << " " << c.alpha << ": " << r.mean << " +- " << r.sigma;
   }
@@ -224,10 +219,48 @@ TEST(Gas, RoughSpheresTheta) {
             (noise ? "  initial: {temperature: 8, rotational_temperature: 4}\n" : "") +
             "  t_end: 25\n  observe_every: 0.25\n  steady_from: 8\n");
     H5Reader f(out);
-    const Steady th = ratio(steady(f, "/temperature_rotational"), steady(f, "/temperature"));
+    const Steady th = steady(f, "/theta");
     EXPECT_GT(th.mean, c.reference * (1 - c.below) - z * th.sigma) << c.thermostat << ": " << th.mean << " +- " << th.sigma;
     EXPECT_LT(th.mean, c.reference * (1 + c.above) + z * th.sigma) << c.thermostat << ": " << th.mean << " +- " << th.sigma;
   }
+}
+
+// The stored ratios are the ratios of the stored means, row by row and in the steady state, and
+// their intervals are the delta method's. The Gaussian thermostat holds d T + d_rot T_rot in every
+// ensemble, so T and T_rot move exactly against each other: the interval must then equal
+// theta (s_rot/T_rot + s/T) (correlation -1), in d = 3 and d = 2. A mixture under it holds
+// x_1 T_1 + x_2 T_2, so T_1/T_2 has the same structure.
+TEST(Gas, StoredRatiosAreTheDeltaMethods) {
+  const std::string body = "  alpha: 0.8\n  thermostat: gaussian\n" + std::string(kHardSpheres) +
+                           "  t_end: 6\n  observe_every: 0.5\n  steady_from: 2\n";
+  for (const char* geometry : {"", "  dimension: 2\n"}) {
+    TempDir dir;
+    const bool plane = *geometry != 0;
+    const std::string out = run(dir, "g", header(50, 12, 400) + body + geometry +
+                                              "  roughness: {beta: 0.4, inertia: " + (plane ? "0.5" : "0.4") + "}\n");
+    H5Reader f(out);
+    const auto rot = f.read_double("/temperature_rotational/mean"), T = f.read_double("/temperature/mean");
+    const auto th = f.read_double("/theta/mean"), ci = f.read_double("/theta/ci");
+    const auto rot_ci = f.read_double("/temperature_rotational/ci"), T_ci = f.read_double("/temperature/ci");
+    for (std::size_t m = 0; m < T.size(); ++m) {
+      EXPECT_EQ(th[m], rot[m] / T[m]) << m;
+      EXPECT_NEAR(ci[m], th[m] * (rot_ci[m] / rot[m] + T_ci[m] / T[m]), 1e-6 * ci[m] + 1e-15) << m;
+    }
+    const Steady s = steady(f, "/theta"), r = steady(f, "/temperature_rotational"), t = steady(f, "/temperature");
+    EXPECT_EQ(s.mean, r.mean / t.mean);
+    EXPECT_NEAR(s.sigma, s.mean * (r.sigma / r.mean + t.sigma / t.mean), 1e-6 * s.sigma) << (plane ? "d = 2" : "d = 3");
+  }
+  TempDir dir;
+  const std::string out = run(dir, "m", header(51, 12, 400) +
+                                            "  species:\n    - {name: heavy, fraction: 0.5, mass: 3}\n"
+                                            "    - {name: light, fraction: 0.5, mass: 1}\n" + body);
+  H5Reader f(out);
+  const Steady s = steady(f, "/temperature_ratio/heavy_over_light");
+  const Steady a = steady(f, "/species/heavy/temperature"), b = steady(f, "/species/light/temperature");
+  EXPECT_EQ(s.mean, a.mean / b.mean);
+  EXPECT_NEAR(s.sigma, s.mean * (a.sigma / a.mean + b.sigma / b.mean), 1e-6 * s.sigma);
+  EXPECT_FALSE(f.exists("/temperature_ratio/light_over_heavy"));  // one ratio per pair, in species order
+  EXPECT_FALSE(f.exists("/theta"));                                // smooth particles: no theta
 }
 
 // The splitting schemes give the no-splitting scheme's steady state (Strang's error is O(dt^2),
@@ -278,7 +311,10 @@ TEST(Gas, ThreadsShardsAndSignalsAreBitIdentical) {
                                   "--set dsmc.roughness.inertia=0.5"}) {
     TempDir dir;
     const std::string cfg = dir.write("c.yaml", kRoughMixture) + extra;
-    test::expect_threads_and_shards_identical(dir, cfg);
+    H5Reader f(test::expect_threads_and_shards_identical(dir, cfg));
+    for (const char* g : {"/theta", "/steady/theta", "/temperature_ratio/heavy_over_light",
+                          "/steady/temperature_ratio/heavy_over_light"})
+      EXPECT_TRUE(f.exists(std::string(g) + "/ci")) << g << ": the identities above cover it";
   }
   // Long enough to be under way when the signal comes.
   std::string longer = kRoughMixture;

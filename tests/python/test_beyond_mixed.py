@@ -17,10 +17,12 @@ def _obs(mean, sigma, z=3.2):
     return types.SimpleNamespace(mean=np.float64(mean), sigma=np.float64(sigma), ci=np.float64(z * sigma))
 
 
-def _mixture_run(mass_ratio, alpha, T1, T2, s1=0.002, s2=0.002, s_mix=None, x1=0.5, n=1000, N=10):
-    """A stand-in for read_run of a Gaussian-thermostat binary mixture (T = x1 T1 + x2 T2)."""
+def _mixture_run(mass_ratio, alpha, T1, T2, s1=0.002, s2=0.002, s_mix=None, x1=0.5, n=1000, N=10, s_ratio=None):
+    """A stand-in for read_run of a Gaussian-thermostat binary mixture (T = x1 T1 + x2 T2), with the
+    simulator's stored T1/T2 (sigma s_ratio; default the delta method at correlation -1)."""
     x2 = 1 - x1
     s_mix = abs(x1 * s1 - x2 * s2) if s_mix is None else s_mix  # the thermostat holds T: correlation -1
+    s_ratio = T1 / T2 * (s1 / T1 + s2 / T2) if s_ratio is None else s_ratio
     species = {"heavy": types.SimpleNamespace(mass=float(mass_ratio), diameter=1.0, fraction=x1,
                                               steady={"temperature": _obs(T1, s1)}),
                "light": types.SimpleNamespace(mass=1.0, diameter=1.0, fraction=x2,
@@ -28,14 +30,11 @@ def _mixture_run(mass_ratio, alpha, T1, T2, s1=0.002, s2=0.002, s_mix=None, x1=0
     dsmc = {"particles": n, "alpha": alpha, "thermostat": "gaussian",
             "species": [{"name": "heavy", "fraction": x1}, {"name": "light", "fraction": x2}]}
     return types.SimpleNamespace(path=f"m{mass_ratio}-{alpha}.h5", config={"ensembles": N, "dsmc": dsmc},
-                                 species=species, steady={"temperature": _obs(x1 * T1 + x2 * T2, s_mix)})
+                                 species=species, steady={"temperature": _obs(x1 * T1 + x2 * T2, s_mix),
+                                                          "temperature_ratio/heavy_over_light": _obs(T1 / T2, s_ratio)})
 
 
-def test_ratio_interval_and_the_correlation_from_the_mixture_temperature():
-    r, s = mixtures.ratio_interval(2.0, 0.02, 1.0, 0.01, 0.0)
-    assert r == 2.0 and s == pytest.approx(2 * math.sqrt(2) * 0.01)
-    assert mixtures.ratio_interval(2.0, 0.02, 1.0, 0.01, -1.0)[1] == pytest.approx(2 * 0.02)
-    assert mixtures.ratio_interval(2.0, 0.02, 1.0, 0.01, 1.0)[1] == pytest.approx(0.0, abs=1e-15)
+def test_the_correlation_from_the_mixture_temperature():
     # T = x1 T1 + x2 T2 held exactly: x1 s1 = x2 s2 and Var T = 0 give correlation -1
     assert mixtures.mixture_correlation(0.01, 0.01, 0.0, 0.5, 0.5) == pytest.approx(-1.0)
     # independent estimates: Var T = x1^2 s1^2 + x2^2 s2^2
@@ -53,8 +52,9 @@ def test_mixture_rows_and_verdict():
     row = rows[1]
     assert row["t1_t2"] == pytest.approx(gd * 1.02) and row["difference"] == pytest.approx(0.02)
     assert row["t1_t2_garzo_dufty"] == pytest.approx(1.3412, abs=5e-5) and row["correlation"] == pytest.approx(-1.0)
-    s = row["t1_t2"] * (0.002 / row["T1"] + 0.002 / row["T2"])  # correlation -1: the relative errors add
+    s = row["t1_t2"] * (0.002 / row["T1"] + 0.002 / row["T2"])  # the stored interval, as it is
     assert row["t1_t2_ci"] == pytest.approx(3.2 * s)
+    assert mixtures.mixture_rows([_mixture_run(2, 0.9, 1.0, 1.0, s_ratio=0.0125)])[0]["t1_t2_ci"] == pytest.approx(0.04)
     ours, short = mixtures.mixture_verdict(rows)
     assert short.startswith("compared with an approximation (Maxwellian") and "+2.0%" in short
     assert verdict_kind(short) == "approximation"  # a comparison with an approximation is never a failure
@@ -63,12 +63,21 @@ def test_mixture_rows_and_verdict():
         bad = _mixture_run(2, 0.9, 1.0, 1.0)
         bad.species.pop("light")
         mixtures.mixture_rows([bad])
+    old = _mixture_run(2, 0.9, 1.0, 1.0)
+    del old.steady["temperature_ratio/heavy_over_light"]
+    with pytest.raises(ValueError, match="no /steady/temperature_ratio/heavy_over_light"):
+        mixtures.mixture_rows([old])
 
 
-def _rough_run(thermostat, alpha, beta, T_tr, T_rot, s=0.001, kappa=0.4, n=1000, N=10):
-    dsmc = {"particles": n, "alpha": alpha, "thermostat": thermostat, "roughness": {"beta": beta, "inertia": kappa}}
+def _rough_run(thermostat, alpha, beta, T_tr, T_rot, s=0.001, kappa=0.4, n=1000, N=10, s_theta=None, d=3, lam=1):
+    """A stand-in for read_run of rough particles with the simulator's stored theta (sigma s_theta;
+    default the delta method at correlation -1, the Gaussian thermostat's)."""
+    dsmc = {"particles": n, "alpha": alpha, "thermostat": thermostat, "roughness": {"beta": beta, "inertia": kappa},
+            "kernel": {"lambda": lam}, "dimension": d}
+    s_theta = T_rot / T_tr * (s / T_rot + s / T_tr) if s_theta is None else s_theta
     return types.SimpleNamespace(path=f"{thermostat}-{alpha}-{beta}.h5", config={"ensembles": N, "dsmc": dsmc},
-                                 steady={"temperature": _obs(T_tr, s), "temperature_rotational": _obs(T_rot, s)})
+                                 steady={"temperature": _obs(T_tr, s), "temperature_rotational": _obs(T_rot, s),
+                                         "theta": _obs(T_rot / T_tr, s_theta)})
 
 
 def test_rough_rows_and_verdict():
@@ -88,6 +97,18 @@ def test_rough_rows_and_verdict():
         bad = _rough_run("gaussian", 0.9, 0.5, 1, 1)
         del bad.config["dsmc"]["roughness"]
         rough.rough_rows([bad])
+    # the stored interval as it is (white noise: narrower than the -1 correlation's), the run's d
+    wn = rough.rough_rows([_rough_run("white_noise", 0.9, 0.5, 3.0, 1.4, s_theta=1e-4)])[0]
+    assert wn["theta_ci"] == pytest.approx(3.2e-4)
+    disk = rough.rough_rows([_rough_run("gaussian", 0.9, 0.5, 1.0, 0.8, kappa=0.5, d=2)])[0]
+    assert disk["theta_maxwellian"] == pytest.approx(rough.hcs_theta(0.9, 0.5, 0.5, d=2)) and disk["d"] == 2
+    assert "HCS (disks)" in rough.rough_verdict([disk])[1]
+    old = _rough_run("gaussian", 0.9, 0.5, 1, 1)
+    del old.steady["theta"]
+    with pytest.raises(ValueError, match="no /steady/theta"):
+        rough.rough_rows([old])
+    with pytest.raises(ValueError, match="kernel.lambda 1"):
+        rough.rough_rows([_rough_run("gaussian", 0.9, 0.5, 1, 1, lam=0)])
 
 
 def _csv(rows):

@@ -44,7 +44,7 @@ def test_theory_amplitude_with_the_maxwellian_cooling_rate_is_3_sqrt_pi_over_2_o
     # a2(1/2) = 4/76.25: zeta = zeta_M (1 + 3 a2/16), the value the C++ test holds the SWPM run to
     assert sonine_cooling_rate(0.5, GAMMA, C, T0) == pytest.approx(0.56419 * (1 + 3 * (4 / 76.25) / 16), rel=1e-4)
     # hard disks: 4 pi instead of 8 pi
-    assert hcs_amplitude(1.0, GAMMA, C, T0, dimension=2) == pytest.approx(0.5 * hcs_amplitude(1.0, GAMMA, C, T0))
+    assert hcs_amplitude(1.0, GAMMA, C, T0, d=2) == pytest.approx(0.5 * hcs_amplitude(1.0, GAMMA, C, T0))
 
 
 @pytest.mark.parametrize("alpha", [0.3, 0.5])

@@ -77,6 +77,19 @@ def write_mixture(src, dst, species=SPECIES, roughness=True):
                 s[key] = f[f"steady/temperature/{key}"][()] * 0.5 ** (1 + (key == "variance"))
             for key, value in f["steady/temperature"].attrs.items():
                 s.attrs[key] = value
+        ratios = ([("theta", "theta_", 0.5)] if roughness else []) + (
+            [(f"temperature_ratio/{species[0]['name']}_over_{species[1]['name']}", "ratio_0_1_", 1 / 1.1)]
+            if species else [])
+        for group, prefix, r in ratios:  # the stored ratios (granboltz.ratios), as the simulator writes them
+            f[f"{group}/mean"] = np.full(rows, r)
+            f[f"{group}/ci"] = f["temperature/ci"][()] / f["temperature/mean"][()] * r
+            f[f"{group}/bias"] = np.zeros(rows)
+            s = f.create_group(f"steady/{group}")
+            for key in ("mean", "sigma", "ci", "bias"):
+                s[key] = r * (1.0 if key == "mean" else 0.01)
+            s.attrs.update(estimator="ensembles", samples=f["steady"].attrs["samples"], **{"from": f["steady"].attrs["from"]})
+            f[f"accumulators/{prefix}cross"] = np.zeros((rows, 2, 72), np.int64)
+            f[f"accumulators/{prefix}steady_cross"] = np.zeros((1, 2, 72), np.int64)
     return dst
 
 
@@ -100,6 +113,10 @@ def test_a_mixture_of_rough_spheres_reads(base_run, tmp_path):
     np.testing.assert_array_equal(run.temperature_rotational.mean, one.temperature.mean * 0.5)
     assert float(run.steady["temperature_rotational"].mean) == pytest.approx(0.5 * float(one.steady["temperature"].mean))
     assert run.steady["temperature_rotational"].sigma is not None
+    np.testing.assert_array_equal(run.theta.mean, 0.5)
+    assert float(run.steady["theta"].sigma) == 0.005 and run.steady["theta"].estimator == "ensembles"
+    assert list(run.temperature_ratios) == ["heavy_over_light"]
+    assert float(run.steady["temperature_ratio/heavy_over_light"].mean) == pytest.approx(1 / 1.1)
     with pytest.raises(AttributeError, match="no attribute or observable 'nope'"):
         heavy.nope
     assert "heavy" in repr(heavy)
@@ -131,6 +148,13 @@ def _damage(path, edit):
     (lambda f: f["species/heavy"].attrs.__setitem__("particles", 20), r"attribute particles of /species/heavy"),
     (lambda f: f["species/light"].attrs.__delitem__("fraction"), r"attribute fraction of /species/light: missing"),
     (lambda f: f["species/light/temperature/mean"].__setitem__(0, np.nan), r"/species/light/temperature/mean"),
+    (lambda f: f.__delitem__("theta/ci"), r"dataset /theta/ci: missing \(every dsmc output with dsmc.roughness has it"),
+    (lambda f: f.__delitem__("steady/theta/sigma"), r"/steady/theta/sigma: missing"),
+    (lambda f: f["steady/theta"].attrs.__setitem__("estimator", "blocking"), r"estimator of /steady/theta"),
+    (lambda f: f["temperature_ratio/heavy_over_light/mean"].__setitem__(1, np.inf),
+     r"/temperature_ratio/heavy_over_light/mean"),
+    (lambda f: f.__delitem__("steady/temperature_ratio/heavy_over_light/bias"), r"heavy_over_light/bias: missing"),
+    (lambda f: f.__delitem__("accumulators/ratio_0_1_steady_cross"), r"ratio_0_1_steady_cross: missing"),
 ])
 def test_a_damaged_mixture_raises_run_read_error_naming_the_dataset(base_run, tmp_path, edit, message):
     path = _damage(write_mixture(base_run, tmp_path / "mix.h5"), edit)
@@ -158,7 +182,8 @@ def _with_config(path, **dsmc):
 def test_the_item_scripts_write_table_figure_and_summary(base_run, tmp_path, run_script, script):
     """Each item script on two synthetic mixture-of-rough-spheres files (values from the
     one-species run: the numbers mean nothing, the files' layout is the simulator's)."""
-    runs = [_with_config(write_mixture(base_run, tmp_path / f"{k}.h5"), alpha=alpha, thermostat="gaussian")
+    hard = {"lambda": 1, "C": 0.0795774715459477}  # the rough theory is of hard spheres
+    runs = [_with_config(write_mixture(base_run, tmp_path / f"{k}.h5"), alpha=alpha, thermostat="gaussian", kernel=hard)
             for k, alpha in enumerate((0.9, 0.7))]
     out = {key: str(tmp_path / f"item.{key}") for key in ("csv", "png", "pdf")}
     out["summary"] = str(tmp_path / "item.json")
@@ -197,3 +222,8 @@ def test_an_output_of_the_simulator_with_species_and_roughness_reads(tmp_path):
     assert run.temperature_rotational.mean.shape == run.time.shape
     assert run.steady["temperature_rotational"].estimator == run.steady["temperature"].estimator
     assert (heavy.events["collisions"] > 0).all()
+    # the stored ratios: the ratios of the stored means, with their intervals
+    np.testing.assert_array_equal(run.theta.mean, run.temperature_rotational.mean / run.temperature.mean)
+    ratio = run.steady["temperature_ratio/heavy_over_light"]
+    assert float(ratio.mean) == float(heavy.steady["temperature"].mean) / float(light.steady["temperature"].mean)
+    assert np.isfinite(float(ratio.sigma)) and float(run.steady["theta"].ci) > 0

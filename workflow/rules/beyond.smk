@@ -219,8 +219,8 @@ def beyond_swpm_run_config(wildcards):
     alpha = float(wildcards.alpha)
     k = [float(a) for a in h["alphas"]].index(alpha)
     R, T0 = float(h["radius"][k]), float(BEYOND["temperature0"])
-    zeta = sonine_cooling_rate(alpha, BEYOND["gamma"], BEYOND["C"], T0)
-    rate = hcs_amplitude(zeta, BEYOND["gamma"], BEYOND["C"], T0) / thermal_speed(T0)
+    zeta = sonine_cooling_rate(alpha, BEYOND["gamma"], BEYOND["C"], T0, d=3)
+    rate = hcs_amplitude(zeta, BEYOND["gamma"], BEYOND["C"], T0, d=3) / thermal_speed(T0)
     split = {"radius": float(h["split_radius"]), "rate": rate, "power": 1.0,
              "interval": 1.0 / (rate * zeta * R), "max_radius": R}
     weights = {"method": "swpm", "kappa": h["kappa"], "max_particles": int(h["max_particles"]),

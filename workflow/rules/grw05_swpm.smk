@@ -31,7 +31,7 @@ def grw05_swpm_split(ex, power=None):
 
     e = GRW05[ex]
     return importance_split(float(e["kernel"]["lambda"]), float(e["beta"]), float(e["gamma"]),
-                            float(e["kernel"]["C"]), float(SWPM["radius"][ex]), SWPM["split_radius"][ex], power)
+                            float(e["kernel"]["C"]), float(SWPM["radius"][ex]), SWPM["split_radius"][ex], power, d=3)
 
 
 def grw05_swpm_run_config(wildcards):

@@ -32,14 +32,14 @@ fig, axes = plt.subplots(2, 2, figsize=(6.3, 5.2), sharex=True)
 alpha_fine = np.linspace(0.15, 1.0, 200)
 for col, thermostat in enumerate(("gaussian", "white_noise")):
     top, bottom = axes[0, col], axes[1, col]
-    s2, s3 = second_sonine(alpha_fine, thermostat)
-    top.plot(alpha_fine, [theory_a2(thermostat, 1, float(a))[0] for a in alpha_fine], "--", color="black",
+    s2, s3 = second_sonine(alpha_fine, thermostat, d=3)
+    top.plot(alpha_fine, [theory_a2(thermostat, 1, float(a), 3)[0] for a in alpha_fine], "--", color="black",
              label="hard spheres (squares): first Sonine (vNE)")
     top.plot(alpha_fine, s2, ":", color="black", label="hard spheres: second Sonine")
-    top.plot(alpha_fine, [theory_a2(thermostat, 0, float(a))[0] for a in alpha_fine], "-", color="black",
+    top.plot(alpha_fine, [theory_a2(thermostat, 0, float(a), 3)[0] for a in alpha_fine], "-", color="black",
              label="Maxwell molecules (circles): exact")
     bottom.plot(alpha_fine, s3, ":", color="black")
-    exact3 = np.array([maxwell_a3(float(a), thermostat) for a in alpha_fine], dtype=float)
+    exact3 = np.array([maxwell_a3(float(a), thermostat, d=3) for a in alpha_fine], dtype=float)
     bottom.plot(alpha_fine, exact3, "-", color="black")
     for kernel, marker in (("hard_spheres", "s"), ("maxwell", "o")):
         mine = [r for r in rows if r["thermostat"] == thermostat and r["kernel"] == kernel]
@@ -52,7 +52,7 @@ for col, thermostat in enumerate(("gaussian", "white_noise")):
         bottom.errorbar([r["alpha"] for r in shown], [r["a3"] for r in shown], yerr=[r["a3_ci"] for r in shown],
                         fmt=marker, ms=3.5, mfc="none", color="black", capsize=1.5)
     if thermostat == "gaussian":
-        bottom.axvline(hcs_moment_threshold(6), color="grey", lw=0.4, ls="--")
+        bottom.axvline(hcs_moment_threshold(6, d=3), color="grey", lw=0.4, ls="--")
 label_sonine_panels(axes)
 axes[0, 0].set_ylim(-0.05, 1.0)  # Maxwell HCS: a2 -> 2 as alpha -> 0 (power-law tail)
 axes[1, 0].set_ylim(-0.1, 0.3)

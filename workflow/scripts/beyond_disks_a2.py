@@ -28,7 +28,7 @@ fig, axes = plt.subplots(2, 2, figsize=(6.3, 4.8), sharex=True, gridspec_kw={"he
 alpha_fine = np.linspace(0.15, 1.0, 200)
 for column, thermostat in enumerate(("gaussian", "white_noise")):
     top, bottom = axes[:, column]
-    refs = np.array([disk_references(thermostat, a) for a in alpha_fine])
+    refs = np.array([disk_references(thermostat, a, d=2) for a in alpha_fine])
     top.plot(alpha_fine, refs[:, 0], "--", color="black", lw=0.9, label="van Noije–Ernst (first Sonine)")
     top.plot(alpha_fine, refs[:, 1], "-", color="black", lw=0.9, label="second Sonine")
     bottom.plot(alpha_fine, refs[:, 2], "-", color="black", lw=0.9, label="second Sonine")

@@ -28,7 +28,7 @@ alpha_fine = np.linspace(0.4, 1.0, 121)
 markers = "osd^v"
 for k, m in enumerate(sorted({r["mass_ratio"] for r in rows})):
     mine = [r for r in rows if r["mass_ratio"] == m]
-    gd = [temperature_ratio("gaussian", m, a, snakemake.params.x1) for a in alpha_fine]
+    gd = [temperature_ratio("gaussian", m, a, snakemake.params.x1, d=3) for a in alpha_fine]
     top.plot(alpha_fine, gd, "-", color="black", lw=0.9, label="Garzó–Dufty" if k == 0 else None)
     top.errorbar([r["alpha"] for r in mine], [r["t1_t2"] for r in mine], yerr=[r["t1_t2_ci"] for r in mine],
                  fmt=markers[k % 5], ms=3.5, mfc="none", color="black", capsize=1.5, label=f"DSMC, $m_1/m_2$ = {m:g}")

@@ -32,7 +32,7 @@ for ax, thermostat in zip(axes, ("gaussian", "white_noise")):
     mine = [r for r in rows if r["thermostat"] == thermostat]
     for k, alpha in enumerate(sorted({r["alpha"] for r in mine}, reverse=True)):
         pts = [r for r in mine if r["alpha"] == alpha]
-        ref = theta(thermostat, alpha, beta_fine, snakemake.params.kappa)
+        ref = theta(thermostat, alpha, beta_fine, snakemake.params.kappa, d=3)
         ax.plot(beta_fine, ref, styles[k % 4], color="black", lw=0.9,
                 label=f"Maxwellian, α = {alpha:g}" if thermostat == "gaussian" else
                 ("Maxwellian (any α)" if k == 0 else None))

@@ -45,8 +45,8 @@ for run, dashes in zip(runs, [(1, 0), (6, 2), (2, 1.5), (4, 1, 1, 1)]):
 if getattr(snakemake.params, "exact", False):  # Fig. 3 (lambda = 0): the exact Crit(t) and Crit(inf)
     t = runs[0].time
     alpha, beta, nu, T0 = hierarchy_physics(runs[0].config)
-    ax.plot(t, crit_exact(t, alpha, beta, nu, T0), color="0.5", lw=2.2, alpha=0.6, zorder=0, label="exact")
-    c_inf = crit_steady(alpha, beta, nu)
+    ax.plot(t, crit_exact(t, alpha, beta, nu, T0, d=3), color="0.5", lw=2.2, alpha=0.6, zorder=0, label="exact")
+    c_inf = crit_steady(alpha, beta, nu, d=3)
     ax.axhline(c_inf, color="0.5", lw=0.7, ls=":", label=f"exact Crit$(\\infty) = {c_inf:.5f}$")
 ax.set_xlim(runs[0].time[0], runs[0].time[-1])
 ax.set_ylim(bottom=0)

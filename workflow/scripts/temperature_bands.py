@@ -17,6 +17,7 @@ import numpy as np  # noqa: E402
 from granboltz.dsmc import read_dsmc  # noqa: E402
 from granboltz.files import write_json  # noqa: E402
 from granboltz.plotting import figure_summary, pyplot, save_figure  # noqa: E402
+from granboltz.dimension import dsmc_geometry  # noqa: E402
 from granboltz.theory import analytic_temperature, run_analytic_temperature  # noqa: E402
 
 plt = pyplot()
@@ -35,7 +36,7 @@ for ax, run in zip(axes.flat, runs):
     inside[run.n] = (int(np.sum(np.abs(mean - exact_t) <= ci)), int(t.size))
     d = run.dsmc
     exact = analytic_temperature(t_fine, d["initial"]["temperature"], d["alpha"], d["beta"], d["gamma"],
-                                    d["kernel"]["C"])
+                                    d["kernel"]["C"], *dsmc_geometry(d))
     ax.plot(t, mean + ci, "-", color="black", label="confidence interval (31)")
     ax.plot(t, mean - ci, "-", color="black")
     ax.plot(t_fine, exact, color="black", dashes=(4, 2.5), label="analytic solution")

@@ -79,6 +79,30 @@ std::vector<RowSet> extra_row_sets(const DsmcConfig& d) {
 }
 
 namespace {
+/// The offset of T in an Observation (kObservables).
+constexpr std::uint64_t kTemperature = 4;
+}  // namespace
+
+std::vector<RatioSet> ratio_sets(const DsmcConfig& d) {
+  std::vector<RatioSet> out;
+  const std::size_t extra = extra_row_sets(d).size();
+  // T_rot is the last extra row set, its only scalar; T the whole gas's (translational).
+  if (d.roughness.on)
+    out.push_back({"theta_", "/theta", extra, 0, 0, kTemperature, "temperature_rotational",
+                   "temperature"});
+  if (d.species_written)
+    for (std::size_t a = 0; a < d.species.size(); ++a)
+      for (std::size_t b = a + 1; b < d.species.size(); ++b) {
+        const std::string& x = d.species[a].name;
+        const std::string& y = d.species[b].name;
+        out.push_back({"ratio_" + std::to_string(a) + "_" + std::to_string(b) + "_",
+                       "/temperature_ratio/" + x + "_over_" + y, a + 1, b + 1, kTemperature,
+                       kTemperature, x, y});
+      }
+  return out;
+}
+
+namespace {
 /// The accumulators of a row set other than the first (the layout of the first is written out in
 /// dsmc_layout, in the order outputs of earlier versions have).
 void declare_row_set(Record& r, const DsmcConfig& d, const RowSet& s) {
@@ -155,6 +179,12 @@ Record dsmc_layout(const DsmcRunConfig& config) {
   for (const RowSet& s : extra_row_sets(d)) declare_row_set(r, d, s);
   if (d.species_written)
     for (const auto& sp : d.species) r.declare_column("/events/species/" + sp.name + "/collisions", false);
+  // The ratios theta and T_a/T_b: the cross sums of their two scalars, per row and of the
+  // ensembles' steady time averages (the other sums they need are the row sets' own).
+  for (const RatioSet& x : ratio_sets(d)) {
+    r.declare_moments(x.prefix + "cross", rows);
+    if (d.steady) r.declare_moments(x.prefix + "steady_cross", 1);
+  }
   return r;
 }
 
@@ -374,6 +404,33 @@ void add_rows(const DsmcConfig& d, const std::vector<double>& times, const RowSe
   if (d.steady) add_steady_blocks(d, times, set, obs, moments, record);
 }
 
+/// One ensemble's cross sums of the ratios: x y per row and, with steady_from, the product of its
+/// time averages of x and y over the steady rows, each summed as add_steady_blocks sums it (in
+/// row order, then divided by R), so that they are the averages in steady_ensemble.
+/// obs[s], width[s]: the rows of row set s (0 the whole gas, k + 1 extra_row_sets()[k]).
+void add_ratios(const DsmcConfig& d, const std::vector<double>& times,
+                const std::vector<const double*>& obs, const std::vector<std::uint64_t>& width,
+                Record& record) {
+  const double steady_after = d.steady_from + 1e-9 * d.observe_every;
+  const std::uint64_t rows = times.size();
+  std::uint64_t first = 0;
+  while (first < rows && !(times[first] > steady_after)) ++first;
+  auto average = [&](const double* o, std::uint64_t W) {
+    double sum = 0.0;
+    for (std::uint64_t m = first; m < rows; ++m) sum += o[m * W];
+    return sum / static_cast<double>(rows - first);
+  };
+  for (const RatioSet& r : ratio_sets(d)) {
+    const double* x = obs[r.x_set] + r.x_k;
+    const double* y = obs[r.y_set] + r.y_k;
+    const std::uint64_t wx = width[r.x_set], wy = width[r.y_set];
+    auto& cross = record.moments(r.prefix + "cross");
+    for (std::uint64_t m = 0; m < rows; ++m) cross[m].sum.add(x[m * wx] * y[m * wy]);
+    if (d.steady && first < rows)
+      record.moments(r.prefix + "steady_cross")[0].sum.add(average(x, wx) * average(y, wy));
+  }
+}
+
 }  // namespace
 
 void run_dsmc(const DsmcRunConfig& config, const DriverOptions& options, Record& record) {
@@ -531,6 +588,15 @@ void run_dsmc(const DsmcRunConfig& config, const DriverOptions& options, Record&
     const std::vector<RowSet> extra = extra_row_sets(d);
     for (std::size_t k = 0; k < extra.size(); ++k)
       add_rows(d, times, extra[k], w.xobs[k].data(), w.xmoments[k].data(), e, false, record);
+    if (!extra.empty()) {
+      std::vector<const double*> rows_of{w.obs.data()->data()};
+      std::vector<std::uint64_t> width{kNumScalars};
+      for (std::size_t k = 0; k < extra.size(); ++k) {
+        rows_of.push_back(w.xobs[k].data());
+        width.push_back(extra[k].width);
+      }
+      add_ratios(d, times, rows_of, width, record);
+    }
     // A histogram's per-ensemble steady average of f_k and, for SWPM, its weights per row.
     auto add_histogram = [&](const std::string& name, const std::vector<std::uint64_t>& hist,
                              const std::vector<double>& whist) {
@@ -1001,6 +1067,95 @@ void present_row_set(H5Writer& out, const DsmcRunConfig& config, const Record& r
       if (d.roughness.on) out.attr(set.group, "inertia", sp.inertia);
     }
 }
+
+/// r = mu_x/mu_y of the ensemble means and its variance by the delta method, (V_x - 2 r C_xy +
+/// r^2 V_y)/(mu_y^2 N), with the (co)variances of (x, y) over the N ensembles (population: the
+/// series, as their ci; sample, N - 1: the steady averages, as /steady); written so that mu_x = 0
+/// (T_rot(0) = 0) gives 0, not 0/0. bias: the leading 1/N bias of a ratio of means, (r V_y -
+/// C_xy)/(mu_y^2 N) (second-order delta method).
+struct RatioStats {
+  double mean = 0.0, variance = 0.0, bias = 0.0;
+};
+RatioStats ratio_of_means(double mean_x, double mean_y, const Moments2& x, const Moments2& y,
+                          const Moments2& xy, std::uint64_t N, bool sample_covariance) {
+  const double n = static_cast<double>(N);
+  const double mx = x.sum.value() / n, my = y.sum.value() / n;
+  const double scale = sample_covariance ? n / (n - 1.0) : 1.0;
+  const double vx = std::max(0.0, x.sum_sq.value() / n - mx * mx) * scale;
+  const double vy = std::max(0.0, y.sum_sq.value() / n - my * my) * scale;
+  const double cxy = (xy.sum.value() / n - mx * my) * scale;
+  RatioStats r;
+  r.mean = mean_x / mean_y;
+  const double my2n = mean_y * mean_y * n;
+  r.variance = std::max(0.0, (vx - 2.0 * r.mean * cxy + r.mean * r.mean * vy) / my2n);
+  r.bias = (r.mean * vy - cxy) / my2n;
+  return r;
+}
+
+/// The datasets of one ratio (ratio_sets): <group>/{mean,ci,bias} [M+1] and with steady_from
+/// /steady<group>/{mean,sigma,ci,bias}, as a2's.
+void write_ratio(H5Writer& out, const DsmcRunConfig& config, const Record& record,
+                 const RatioSet& r) {
+  const DsmcConfig& d = config.dsmc;
+  const std::uint64_t rows = d.observations() + 1, N = record.ensembles();
+  if (N == 0) return;
+  std::vector<RowSet> sets{RowSet{"", "", kNumScalars, static_cast<std::uint64_t>(d.moments)}};
+  for (const RowSet& s : extra_row_sets(d)) sets.push_back(s);
+  const RowSet &X = sets[r.x_set], &Y = sets[r.y_set];
+  const std::string what = r.group == "/theta" ? "theta = T_rot/T (T translational)"
+                                               : "T_" + r.numerator + "/T_" + r.denominator +
+                                                     ", the species' temperatures";
+  const std::string bias_text =
+      "; bias: the ratio estimator's leading 1/N bias (second-order delta method), not "
+      "subtracted from mean";
+  const std::string how = ": the ratio of the ensemble means; ci by the delta method with the "
+                          "variances and the covariance of the two over the ensembles" + bias_text;
+  const std::string steady_how =
+      ": the ratio of the steady averages; ci by the delta method with the variances and the "
+      "covariance of the ensembles' time averages over t_m > steady_from" + bias_text;
+  const auto& sx = record.moments(X.prefix + "series");
+  const auto& sy = record.moments(Y.prefix + "series");
+  const auto& cross = record.moments(r.prefix + "cross");
+  std::vector<double> mean(rows), ci(rows), bias(rows);
+  for (std::uint64_t m = 0; m < rows; ++m) {
+    const Moments2 &x = sx[m * X.width + r.x_k], &y = sy[m * Y.width + r.y_k];
+    const RatioStats s = ratio_of_means(x.sum.value() / static_cast<double>(N),
+                                        y.sum.value() / static_cast<double>(N), x, y, cross[m], N,
+                                        false);
+    mean[m] = s.mean;
+    ci[m] = kLambdaP * std::sqrt(s.variance);
+    bias[m] = s.bias;
+  }
+  auto attrs = [&](const std::string& g, const std::string& text) {
+    out.attr(g, "description", what + text);
+    out.attr(g, "numerator", r.numerator);
+    out.attr(g, "denominator", r.denominator);
+  };
+  out.write(r.group + "/mean", mean, {rows});
+  out.write(r.group + "/ci", ci, {rows});
+  out.write(r.group + "/bias", bias, {rows});
+  attrs(r.group, how);
+  if (!d.steady) return;
+  // Each ensemble's time averages over the steady rows are one independent sample (as /steady/a2,
+  // whatever steady_ci says); the mean is the ratio of the steady means, as a user divides them.
+  const std::uint64_t S = record.total("steady_samples");
+  const Moments2& x = record.moments(X.prefix + "steady_ensemble")[r.x_k];
+  const Moments2& y = record.moments(Y.prefix + "steady_ensemble")[r.y_k];
+  const RatioStats s = ratio_of_means(record.moments(X.prefix + "steady")[r.x_k].stats(S).mean,
+                                      record.moments(Y.prefix + "steady")[r.y_k].stats(S).mean, x,
+                                      y, record.moments(r.prefix + "steady_cross")[0], N, true);
+  const double sigma = N >= 2 ? std::sqrt(s.variance) : NAN;
+  const std::string g = "/steady" + r.group;
+  out.write(g + "/mean", std::vector<double>{s.mean}, {});
+  out.write(g + "/sigma", std::vector<double>{sigma}, {});
+  const double factor = confidence_factor(static_cast<double>(N) - 1);
+  out.write(g + "/ci", std::vector<double>{factor * sigma}, {});
+  out.write(g + "/bias", std::vector<double>{N >= 2 ? s.bias : NAN}, {});
+  attrs(g, steady_how);
+  out.attr(g, "estimator", std::string("ensembles"));
+  out.attr(g, "samples", S);
+  out.attr(g, "from", d.steady_from);
+}
 }  // namespace
 
 void present_dsmc(H5Writer& out, const DsmcRunConfig& config, const Record& record) {
@@ -1063,6 +1218,7 @@ void present_dsmc(H5Writer& out, const DsmcRunConfig& config, const Record& reco
   }
   write_sonine(out, config, record, whole);
   for (const RowSet& set : extra_row_sets(d)) present_row_set(out, config, record, set);
+  for (const RatioSet& r : ratio_sets(d)) write_ratio(out, config, record, r);
 }
 
 }  // namespace granboltz

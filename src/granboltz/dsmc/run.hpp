@@ -41,6 +41,23 @@ struct RowSet {
 /// The row sets beyond the first: one per species of dsmc.species, then T_rot (dsmc.roughness).
 std::vector<RowSet> extra_row_sets(const DsmcConfig& d);
 
+/// A ratio x/y of two row scalars stored as an observable of its own: theta = T_rot/T of rough
+/// particles (/theta) and T_a/T_b of the species of a mixture (/temperature_ratio/<a>_over_<b>).
+/// Its mean is the ratio of the ensemble means; its interval the delta method with the variances
+/// and the covariance of (x, y) over the ensembles (docs/output.md), whose cross sums
+/// prefix + "cross" ([rows]) and prefix + "steady_cross" ([1], of the ensembles' time averages)
+/// it keeps: exact sums like every other, so shards, merges and resumed runs give the same bits.
+struct RatioSet {
+  std::string prefix;        ///< of its accumulators
+  std::string group;         ///< of its datasets, and under /steady
+  std::size_t x_set, y_set;  ///< row sets: 0 the whole gas, k + 1 extra_row_sets()[k]
+  std::uint64_t x_k, y_k;    ///< the scalar of each row
+  std::string numerator, denominator;  ///< names written as attributes (species names for T_a/T_b)
+};
+/// theta = T_rot/T with dsmc.roughness, then T_a/T_b for every pair a < b of dsmc.species in the
+/// order the species are listed.
+std::vector<RatioSet> ratio_sets(const DsmcConfig& d);
+
 /// Ensembles from which the steady-state interval comes from their spread (dsmc.steady_ci:
 /// batch); with fewer, from blocking within the ensembles.
 inline constexpr std::uint64_t kSteadyMinEnsembles = 10;

@@ -12,6 +12,7 @@ import math
 
 import numpy as np
 
+from .dimension import check_dimension, dsmc_geometry
 from .maxwell_hierarchy import hcs_a2, hcs_scaled_moments, steady_a2_formula
 from .sonine import cooling_rate, first_sonine_a2, hcs_moment_threshold, maxwell_a3, second_sonine
 
@@ -19,22 +20,25 @@ Z = 3.2  # lambda_p of every confidence half-width of the project (GRW05 §5.1)
 
 
 # ----------------------------------------------------------------------------- theory
-def vne_hcs_a2(alpha):
+def vne_hcs_a2(alpha, d=3, geometry=None):
     """First-Sonine a2 of the hard-sphere HCS (van Noije & Ernst 1998, d = 3):
-    16(1 - alpha)(1 - 2 alpha^2)/(81 - 17 alpha + 30 alpha^2 (1 - alpha))."""
-    return first_sonine_a2(alpha, "gaussian", 1)
+    16(1 - alpha)(1 - 2 alpha^2)/(81 - 17 alpha + 30 alpha^2 (1 - alpha)); hard disks in d = 2."""
+    return first_sonine_a2(alpha, "gaussian", 1, d, geometry)
 
 
-def vne_heated_a2(alpha):
+def vne_heated_a2(alpha, d=3, geometry=None):
     """First-Sonine a2 of the white-noise steady state of hard spheres (van Noije & Ernst 1998):
-    16(1 - alpha)(1 - 2 alpha^2)/(241 - 177 alpha + 30 alpha^2 (1 - alpha))."""
-    return first_sonine_a2(alpha, "white_noise", 1)
+    16(1 - alpha)(1 - 2 alpha^2)/(241 - 177 alpha + 30 alpha^2 (1 - alpha)); hard disks in d = 2."""
+    return first_sonine_a2(alpha, "white_noise", 1, d, geometry)
 
 
-def theory_a2(thermostat, kernel_lambda, alpha):
-    """(value, name) of the reference a2: exact for Maxwell molecules (lambda = 0; HCS from the
-    moment hierarchy, steady white noise in closed form), first Sonine for hard spheres."""
+def theory_a2(thermostat, kernel_lambda, alpha, d=3, geometry=None):
+    """(value, name) of the reference a2: exact for Maxwell molecules (lambda = 0, d = 3; HCS from
+    the moment hierarchy, steady white noise in closed form), first Sonine for hard spheres (and
+    hard disks, d = 2)."""
+    d = check_dimension(d, (2, 3), "theory_a2")
     if kernel_lambda == 0:
+        check_dimension(d, (3,), "theory_a2 (Maxwell molecules)")
         if thermostat == "gaussian":
             try:  # the HCS of Maxwell molecules has a power-law tail: <c^8> is infinite for alpha <= 0.4
                 hcs_scaled_moments(4, alpha)
@@ -43,20 +47,21 @@ def theory_a2(thermostat, kernel_lambda, alpha):
             return float(hcs_a2(alpha)), "exact (moment hierarchy)"
         return float(steady_a2_formula(alpha)), "exact (moment hierarchy)"
     if thermostat == "gaussian":
-        return vne_hcs_a2(alpha), "van Noije-Ernst, first Sonine"
-    return vne_heated_a2(alpha), "van Noije-Ernst, first Sonine"
+        return vne_hcs_a2(alpha, d, geometry), "van Noije-Ernst, first Sonine"
+    return vne_heated_a2(alpha, d, geometry), "van Noije-Ernst, first Sonine"
 
 
-def haff_temperature(t, T0, alpha, gamma, C, kernel_lambda, n=None):
+def haff_temperature(t, T0, alpha, gamma, C, kernel_lambda, n=None, d=3, geometry=None):
     """Expected centred temperature of free cooling: Maxwell molecules T0 e^{-gamma pi C (1 -
     alpha^2) t} (GRW05 eq. 16, beta = 0; exact), hard spheres Haff's law T0/(1 + t/t0)^2 with
     t0 = 2/(K sqrt(T0)), K = (16/3) sqrt(pi) gamma C (1 - alpha^2)(1 + 3 a2/16), a2 of the HCS
-    in first Sonine.  With n, T0 -> T0 (1 - 1/n): the centred estimator's bias (exact for Maxwell)."""
+    in first Sonine.  With n, T0 -> T0 (1 - 1/n): the centred estimator's bias (exact for Maxwell).
+    d = 2: the rates of granboltz.sonine.cooling_rate (hard disks: impact geometry)."""
     t = np.asarray(t, dtype=float)
     T0 = T0 * (1 - 1 / n) if n else T0
     if kernel_lambda == 0:
-        return T0 * np.exp(-cooling_rate(1.0, alpha, gamma, C, 0) * t)
-    K = cooling_rate(1.0, alpha, gamma, C, 1, a2=vne_hcs_a2(alpha))  # zeta = K sqrt(T)
+        return T0 * np.exp(-cooling_rate(1.0, alpha, gamma, C, 0, d=d, geometry=geometry) * t)
+    K = cooling_rate(1.0, alpha, gamma, C, 1, a2=vne_hcs_a2(alpha, d, geometry), d=d, geometry=geometry)
     return T0 / (1 + t * K * math.sqrt(T0) / 2) ** 2
 
 
@@ -80,7 +85,8 @@ def haff_rows(runs):
         n, lam = int(d["particles"]), float(d["kernel"]["lambda"])
         T, ci = run.temperature.mean, run.temperature.ci
         alpha = run_alpha(run)
-        th = haff_temperature(run.time, d["initial"]["temperature"], alpha, d["gamma"], d["kernel"]["C"], lam, n)
+        th = haff_temperature(run.time, d["initial"]["temperature"], alpha, d["gamma"], d["kernel"]["C"], lam, n,
+                              *dsmc_geometry(d))
         for t, x, c, e in zip(run.time, T, ci, th):
             rows.append({"kernel": "maxwell" if lam == 0 else "hard_spheres", "alpha": alpha, "n": n,
                          "N": int(run.config["ensembles"]), "t": float(t), "T": float(x), "ci": float(c),
@@ -99,10 +105,11 @@ def a2_rows(runs, rel_tol, abs_floor, published=()):
         d = run.config["dsmc"]
         lam, th_name = float(d["kernel"]["lambda"]), d.get("thermostat", "white_noise")
         T, fm = run.steady["temperature"], run.steady["fourth_moment"]
-        a2 = float(fm.mean / (15 * T.mean**2))
-        ci = float(math.hypot(fm.ci / (15 * T.mean**2), 2 * abs(a2) * T.ci / T.mean))
+        dim, geometry = dsmc_geometry(d)
+        a2 = float(fm.mean / (dim * (dim + 2) * T.mean**2))
+        ci = float(math.hypot(fm.ci / (dim * (dim + 2) * T.mean**2), 2 * abs(a2) * T.ci / T.mean))
         alpha = run_alpha(run)
-        ref, kind = theory_a2(th_name, lam, alpha)
+        ref, kind = theory_a2(th_name, lam, alpha, dim, geometry)
         p = pub.get(round(alpha, 6)) if (th_name == "gaussian" and lam == 1) else None
         rows.append({"thermostat": th_name, "kernel": "maxwell" if lam == 0 else "hard_spheres",
                      "alpha": alpha, "n": int(d["particles"]), "N": int(run.config["ensembles"]),
@@ -113,20 +120,20 @@ def a2_rows(runs, rel_tol, abs_floor, published=()):
         rows[-1]["tol"] = 0.0 if kind.startswith("exact") else max(rel_tol * abs(ref), abs_floor)
         agrees = a2_agrees(rows[-1], rel_tol, abs_floor)
         rows[-1]["agrees"] = None if agrees is None else int(agrees)
-        rows[-1].update(a3_columns(run, th_name, lam, alpha))
+        rows[-1].update(a3_columns(run, th_name, lam, alpha, dim, geometry))
     return sorted(rows, key=lambda r: (r["thermostat"], r["kernel"], r["alpha"]))
 
 
-def a3_columns(run, thermostat, kernel_lambda, alpha):
+def a3_columns(run, thermostat, kernel_lambda, alpha, d=3, geometry=None):
     """The second-Sonine a2 and a3 of hard spheres (beyond.md §1), the simulator's steady a3 with its
     interval (the delta method over the ensembles' time averages, honest for correlated rows), and
     the exact a3 of Maxwell molecules (beyond.md §2; NaN where <c^6> is infinite).  a3_valid: whether
     the a3 interval means anything (the Maxwell HCS needs <c^12> finite, alpha above 0.6647)."""
     a3 = run.steady["a3"]
     hard = kernel_lambda == 1
-    s2, s3 = (float(x) for x in second_sonine(alpha, thermostat)) if hard else (None, None)
-    exact = None if hard else float(maxwell_a3(alpha, thermostat))
-    valid = hard or thermostat != "gaussian" or alpha > hcs_moment_threshold(6)
+    s2, s3 = (float(x) for x in second_sonine(alpha, thermostat, d, geometry)) if hard else (None, None)
+    exact = None if hard else float(maxwell_a3(alpha, thermostat, d))
+    valid = hard or thermostat != "gaussian" or alpha > hcs_moment_threshold(6, d)
     return {"a2_second_sonine": s2, "a3": float(a3.mean), "a3_ci": float(a3.ci), "a3_second_sonine": s3,
             "a3_exact": None if exact is None or math.isnan(exact) else exact, "a3_valid": int(valid)}
 

@@ -14,6 +14,7 @@ import math
 import numpy as np
 
 from .beyond import run_alpha
+from .dimension import check_dimension, check_geometry
 from .sonine import first_sonine_a2, second_sonine
 
 # Allowances of the hard-disk verdict (as tests/test_dimension.cpp): the error of van Noije-Ernst's
@@ -24,19 +25,26 @@ GAP_FACTOR = 2.0
 FINITE_N = 2.0
 
 
-def disk_references(thermostat, alpha):
-    """(van Noije-Ernst a2, second-Sonine a2, second-Sonine a3) of hard disks, d = 2 [approx; the
-    second Sonine derived, granboltz.sonine.second_sonine]."""
-    a2_2, a3_2 = second_sonine(alpha, thermostat, d=2)
-    return float(first_sonine_a2(alpha, thermostat, 1, d=2)), float(a2_2), float(a3_2)
+def _disks(what, d, geometry):
+    """d = 2 with the hard-disk law: the only (d, geometry) of these references."""
+    check_geometry(check_dimension(d, (2,), what), geometry, what)
 
 
-def disk_steady_temperature(alpha, beta, gamma, C, a2=0.0, a3=0.0, n=None):
+def disk_references(thermostat, alpha, d=2, geometry=None):
+    """(van Noije-Ernst a2, second-Sonine a2, second-Sonine a3) of hard disks, d = 2, impact
+    geometry [approx; the second Sonine derived, granboltz.sonine.second_sonine]."""
+    _disks("disk_references", d, geometry)
+    a2_2, a3_2 = second_sonine(alpha, thermostat, d=2, geometry=geometry)
+    return float(first_sonine_a2(alpha, thermostat, 1, d=2, geometry=geometry)), float(a2_2), float(a3_2)
+
+
+def disk_steady_temperature(alpha, beta, gamma, C, a2=0.0, a3=0.0, n=None, d=2, geometry=None):
     """White-noise steady temperature of hard disks (d = 2, C per unit angle): 2 beta = K T^(3/2),
     K = pi^(3/2) gamma C (1 - alpha^2)(1 + 3 a2/16 + a3/64) [approx: the Sonine factor of
     E|u|^3]; with n, E[T] = (1 - 1/n)(2 beta/K)^(2/3), the n-particle energy balance
     (tests/test_dimension.cpp: it fixes the pairs' mean |u|^3, and their mean |u|^2 is
-    2d E[T] n/(n - 1))."""
+    2d E[T] n/(n - 1)).  d = 2 with the impact geometry only."""
+    _disks("disk_steady_temperature", d, geometry)
     K = math.pi**1.5 * gamma * C * (1 - np.asarray(alpha, float) ** 2) * (1 + 3 * np.asarray(a2, float) / 16
                                                                          + np.asarray(a3, float) / 64)
     return (1 - 1 / n if n else 1.0) * (2 * beta / K) ** (2 / 3)
@@ -56,10 +64,11 @@ def disk_a2_rows(runs, max_gap):
         d = run.config["dsmc"]
         if int(d.get("dimension", 3)) != 2 or float(d["kernel"]["lambda"]) != 1:
             raise ValueError(f"{run.path}: not a hard-disk run (dsmc.dimension 2, kernel.lambda 1)")
+        geometry = d.get("geometry", "impact")
         th_name, alpha, n = d.get("thermostat", "white_noise"), run_alpha(run), int(d["particles"])
         s = run.steady
         a2 = float(s["a2"].mean)
-        vne, s2, s3 = disk_references(th_name, alpha)
+        vne, s2, s3 = disk_references(th_name, alpha, 2, geometry)
         gap = abs(vne - s2)
         row = {"thermostat": th_name, "alpha": alpha, "n": n, "N": int(run.config["ensembles"]),
                "a2": a2, "a2_ci": float(s["a2"].ci), "a3": float(s["a3"].mean), "a3_ci": float(s["a3"].ci),
@@ -68,9 +77,9 @@ def disk_a2_rows(runs, max_gap):
                "T": None, "T_ci": None, "T_theory": None, "T_maxwellian": None, "T_tol": None}
         if th_name == "white_noise":
             beta, gamma, C = float(d["beta"]), float(d["gamma"]), float(d["kernel"]["C"])
-            T_th = float(disk_steady_temperature(alpha, beta, gamma, C, vne, n=n))
+            T_th = float(disk_steady_temperature(alpha, beta, gamma, C, vne, n=n, d=2, geometry=geometry))
             row.update(T=float(s["temperature"].mean), T_ci=float(s["temperature"].ci), T_theory=T_th,
-                       T_maxwellian=float(disk_steady_temperature(alpha, beta, gamma, C, n=n)),
+                       T_maxwellian=float(disk_steady_temperature(alpha, beta, gamma, C, n=n, d=2, geometry=geometry)),
                        T_tol=T_th * (2 / 3 * (3 / 16 * GAP_FACTOR * gap + abs(s3) / 64) + 1 / n))
         rows.append(disk_judge(row))
     return sorted(rows, key=lambda r: (r["thermostat"], r["alpha"]))

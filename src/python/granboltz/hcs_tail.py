@@ -24,7 +24,9 @@ import math
 import numpy as np
 from scipy.optimize import curve_fit
 
+from .dimension import check_dimension, check_geometry
 from .local_exponent import Z, _log_bin_model, _quadrature, pool_shells, tail_fit
+from .sonine import first_sonine_a2
 from .tail_swpm import effective_counts, resolved_depth, resolved_limit, shell_profile
 
 HCS_TAIL_COLUMNS = ["alpha", "b_swpm", "b_swpm_ci", "A_swpm", "A_theory", "depth_swpm"]
@@ -35,22 +37,29 @@ def thermal_speed(T, m=1.0):
     return math.sqrt(2.0 * T / m)
 
 
-def hcs_amplitude(zeta, gamma, C, T, m=1.0, dimension=3):
-    """A = 8 pi gamma C v0/zeta (d = 3; 4 pi gamma C v0/zeta for hard disks, beyond.md §3)."""
-    k = 8.0 * math.pi if dimension == 3 else 4.0 * math.pi
+def hcs_amplitude(zeta, gamma, C, T, m=1.0, d=3):
+    """A = 8 pi gamma C v0/zeta (d = 3; 4 pi gamma C v0/zeta for hard disks, d = 2, beyond.md §3)."""
+    k = 8.0 * math.pi if check_dimension(d, (2, 3), "hcs_amplitude") == 3 else 4.0 * math.pi
     return k * gamma * C * thermal_speed(T, m) / zeta
 
 
-def maxwellian_cooling_rate(alpha, gamma, C, T, m=1.0):
+def maxwellian_cooling_rate(alpha, gamma, C, T, m=1.0, d=3, geometry=None):
     """zeta of hard spheres with a Maxwellian f: 8 pi gamma C v0 (1 - alpha^2)/(3 sqrt(pi/2))
-    (the A = 3 sqrt(pi/2)/(1 - alpha^2) of beyond.md §3)."""
+    (the A = 3 sqrt(pi/2)/(1 - alpha^2) of beyond.md §3); hard disks (d = 2, impact): pi^(3/2)
+    gamma C (1 - alpha^2) v0/sqrt(2) (granboltz.sonine.cooling_rate)."""
+    if check_dimension(d, (2, 3), "maxwellian_cooling_rate") == 2:
+        check_geometry(d, geometry, "maxwellian_cooling_rate")
+        return math.pi**1.5 * gamma * C * (1.0 - alpha**2) * thermal_speed(T, m) / math.sqrt(2.0)
     return 8.0 * math.pi * gamma * C * thermal_speed(T, m) * (1.0 - alpha**2) / (3.0 * math.sqrt(math.pi / 2.0))
 
 
-def sonine_cooling_rate(alpha, gamma, C, T, m=1.0):
+def sonine_cooling_rate(alpha, gamma, C, T, m=1.0, d=3, geometry=None):
     """First-Sonine HCS cooling rate of hard spheres, d = 3: the Maxwellian one times
     (1 + 3 a2/16), a2 = 16 (1 - alpha)(1 - 2 alpha^2)/(81 - 17 alpha + 30 alpha^2 (1 - alpha))
-    (van Noije & Ernst 1998)."""
+    (van Noije & Ernst 1998); hard disks (d = 2) with their first-Sonine a2."""
+    if check_dimension(d, (2, 3), "sonine_cooling_rate") == 2:
+        a2 = float(first_sonine_a2(alpha, "gaussian", 1, 2, geometry))
+        return maxwellian_cooling_rate(alpha, gamma, C, T, m, 2, geometry) * (1.0 + 3.0 * a2 / 16.0)
     a2 = 16.0 * (1.0 - alpha) * (1.0 - 2.0 * alpha**2) / (81.0 - 17.0 * alpha + 30.0 * alpha**2 * (1.0 - alpha))
     return maxwellian_cooling_rate(alpha, gamma, C, T, m) * (1.0 + 3.0 * a2 / 16.0)
 
@@ -82,14 +91,14 @@ def exponential_fit(pooled, r_lo, r_hi, v0, z=Z):
             "chi_ci": float(z * se[2]), "bins": int(sel.sum())}
 
 
-def hcs_tail_summary(shells, alpha, zeta, gamma, C, T, local, max_rel_ci=0.3):
+def hcs_tail_summary(shells, alpha, zeta, gamma, C, T, local, max_rel_ci=0.3, d=3):
     """One row of the table (HCS_TAIL_COLUMNS) plus the fits' details (chi, the intervals, the
     window).
 
     shells: local_exponent.shells_from_h5(..., steady=True) of the SWPM run; zeta its
     /steady/cooling_rate/mean; local: pool_min_count and tail_from."""
     v0 = thermal_speed(T)
-    A_theory = hcs_amplitude(zeta, gamma, C, T)
+    A_theory = hcs_amplitude(zeta, gamma, C, T, d=d)
     pooled = pool_shells(effective_counts(shells), local["pool_min_count"])
     depth, r_depth = resolved_depth(shells, max_rel_ci)
     r, ratio, _ = shell_profile(shells)

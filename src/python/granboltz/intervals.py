@@ -214,8 +214,8 @@ def read_steady(reader, layout, n):
     for name, specs in layout["steady"].items():
         spec = layout["intervals"].get(name)
         own = read_interval(reader, spec, n, samples, start) if spec else None
-        fields = read_fields(reader, specs, nan=("ci",) if own and own["undefined"] else ())
-        fields = {key: fields.get(key) for key in ("mean", "ci", "variance")}
+        fields = read_fields(reader, specs, nan=("ci", "bias") if own and own["undefined"] else ())
+        fields = {key: fields.get(key) for key in ("mean", "ci", "variance", "bias")}
         batch = read_interval(reader, spec.batch, n, samples, start) if spec and spec.batch else None
         for interval, found in ((spec, own), (spec.batch if spec else None, batch)):
             if found and fields["variance"] is not None:

@@ -134,7 +134,8 @@ def dsmc_layout(reader, section, time, n):
     with dsmc.histogram.center has attribute center on the histograms. Optional, so that files of
     older simulators still read: /a2, /a3 (mean and ci, no variance), read as groups the layout
     does not name. A mixture (dsmc.species) has out["species"] (granboltz.species.species_layout),
-    rough spheres (dsmc.roughness) /temperature_rotational and its steady average."""
+    rough spheres (dsmc.roughness) /temperature_rotational and its steady average, and both
+    their stored ratios (granboltz.ratios: /theta, /temperature_ratio/<a>_over_<b>)."""
     path, why = reader.path, reader.why
     P = config_int(path, section, "dsmc", ("moments",), 4)
     K1 = config_int(path, section, "dsmc", ("histogram", "shells")) + 1
@@ -183,6 +184,9 @@ def dsmc_layout(reader, section, time, n):
     from .species import species_layout  # it builds on this module
 
     out["species"] = species_layout(reader, section, time, n, P, steady)
+    from .ratios import ratio_layout  # it builds on this module
+
+    ratio_layout(reader, section, R, steady, out, acc)
     return out
 
 

@@ -1,4 +1,5 @@
-r"""Exact moment hierarchy of the heated inelastic Boltzmann equation, Maxwell pseudomolecules.
+r"""Exact moment hierarchy of the heated inelastic Boltzmann equation, Maxwell pseudomolecules, d = 3
+(every function takes d and raises ValueError for another: granboltz.dimension).
 
 Equation (GRW05 eq. 1): f_t - beta Lap_v f = gamma Q_alpha(f), kernel B = C0 (lambda = 0, eq. 7),
 density 1, bulk velocity 0.  M_2p = <|v|^2p>, nu = 4 pi C0 gamma (the collision rate).
@@ -37,14 +38,17 @@ from math import factorial, prod, sqrt
 import mpmath
 import numpy as np
 
+from .dimension import check_dimension
+
 
 def rational(x):
     """x as a Fraction (ints, Fractions and decimal strings exactly; floats by their binary value)."""
     return x if isinstance(x, Fraction) else Fraction(x)
 
 
-def collision_rate(gamma, pi_c0):
+def collision_rate(gamma, pi_c0, d=3):
     """nu = 4 pi C0 gamma, given gamma and pi*C0 (1/4 for C0 = 1/(4 pi), 1 for C0 = 1/pi)."""
+    check_dimension(d, (3,), "maxwell_hierarchy.collision_rate")
     return 4 * rational(gamma) * rational(pi_c0)
 
 
@@ -72,9 +76,10 @@ def _coefficient_table(pmax, alpha):
     return tuple(table)
 
 
-def collision_coefficients(p, alpha):
+def collision_coefficients(p, alpha, d=3):
     """(c_0, ..., c_p), Fractions: E|v'|^2p = sum_q c_q M_2q M_2(p-q) for v' of GRW05 eq. 4 with
     e uniform on S^2 and v, w independent isotropic velocities (module docstring)."""
+    check_dimension(d, (3,), "maxwell_hierarchy.collision_coefficients")
     return _coefficient_table(int(p), rational(alpha))[int(p)]
 
 
@@ -90,8 +95,9 @@ def _forcing_terms(p, alpha, beta, nu):
     return terms
 
 
-def steady_moments(pmax, alpha, beta, nu):
+def steady_moments(pmax, alpha, beta, nu, d=3):
     """Exact steady moments [M_0 = 1, M_2, ..., M_2pmax] (Fractions) of the heated equation."""
+    check_dimension(d, (3,), "maxwell_hierarchy.steady_moments")
     alpha, beta, nu = rational(alpha), rational(beta), rational(nu)
     rates, M = _decay_rates(pmax, alpha, nu), [Fraction(1)]
     for p in range(1, pmax + 1):
@@ -99,8 +105,9 @@ def steady_moments(pmax, alpha, beta, nu):
     return M
 
 
-def maxwellian_moments(pmax, T0):
+def maxwellian_moments(pmax, T0, d=3):
     """<|v|^2p> = (2p+1)!! T0^p of the Maxwellian of temperature T0 (GRW05 eq. 33), p = 0..pmax."""
+    check_dimension(d, (3,), "maxwell_hierarchy.maxwellian_moments")
     T0 = rational(T0)
     return [prod(range(1, 2 * p + 2, 2)) * T0**p for p in range(pmax + 1)]
 
@@ -147,10 +154,11 @@ def _solve_linear(rate, forcing, y0):
     return out
 
 
-def time_dependent_moments(pmax, alpha, beta, nu, T0=1):
+def time_dependent_moments(pmax, alpha, beta, nu, T0=1, d=3):
     """Exact M_2p(t), p = 0..pmax, from a Maxwellian of temperature T0: a list of exponential
     polynomials {rate: [a_0, a_1, ...]} = sum a_k t^k e^{-rate t}; evaluate with `evaluate`.
     The number of rates grows like the partitions of p: pmax = 8 takes 0.2 s, 12 takes 4 s."""
+    check_dimension(d, (3,), "maxwell_hierarchy.time_dependent_moments")
     alpha, beta, nu = rational(alpha), rational(beta), rational(nu)
     rates, init = _decay_rates(pmax, alpha, nu), maxwellian_moments(pmax, T0)
     M = [{Fraction(0): [Fraction(1)]}]
@@ -174,43 +182,49 @@ def evaluate(expoly, t, digits=80):
                                    for r, poly in terms)) for x in t])
 
 
-def sonine_a2(M2, M4):
+def sonine_a2(M2, M4, d=3):
     """Sonine coefficient a2 = M_4/(15 T^2) - 1 with T = M_2/3 (exact for Fractions)."""
+    check_dimension(d, (3,), "maxwell_hierarchy.sonine_a2")
     return 3 * M4 / (5 * M2 * M2) - 1
 
 
-def steady_a2_formula(alpha):
+def steady_a2_formula(alpha, d=3):
     """Closed form of the steady a2 for lambda = 0: 2(1-alpha)^2(1+alpha)/(13-9alpha+alpha^2-alpha^3)
     (independent of beta, nu; equals sonine_a2 of steady_moments)."""
+    check_dimension(d, (3,), "maxwell_hierarchy.steady_a2_formula")
     a = rational(alpha)
     return 2 * (1 - a) ** 2 * (1 + a) / (13 - 9 * a + a**2 - a**3)
 
 
-def crit(M2, M4):
+def crit(M2, M4, d=3):
     """RW05 eq. 29 for an isotropic state with V = 0 (P = pI and q = 0, only the fourth-moment term
     survives): Crit = |M_4 - 15 T^2| / (sqrt(120) T^2), T = M_2/3. Arrays or floats."""
+    check_dimension(d, (3,), "maxwell_hierarchy.crit")
     T = np.asarray(M2, dtype=float) / 3.0
     return np.abs(np.asarray(M4, dtype=float) - 15.0 * T**2) / (sqrt(120.0) * T**2)
 
 
-def crit_exact(t, alpha, beta, nu, T0=1):
+def crit_exact(t, alpha, beta, nu, T0=1, d=3):
     """Exact Crit(t) of the heated Maxwell gas started from a Maxwellian of temperature T0."""
+    check_dimension(d, (3,), "maxwell_hierarchy.crit_exact")
     M = time_dependent_moments(2, alpha, beta, nu, T0)
     return crit(evaluate(M[1], t), evaluate(M[2], t))
 
 
-def crit_steady(alpha, beta, nu):
+def crit_steady(alpha, beta, nu, d=3):
     """Exact steady Crit(inf) = |a2| * 15/sqrt(120) (a float)."""
+    check_dimension(d, (3,), "maxwell_hierarchy.crit_steady")
     M = steady_moments(2, alpha, beta, nu)
     return float(crit(float(M[1]), float(M[2])))
 
 
-def hcs_scaled_moments(pmax, alpha):
+def hcs_scaled_moments(pmax, alpha, d=3):
     """Moments m_p = lim M_2p(t)/T(t)^p (Fractions, m_0 = 1, m_1 = 3) of the homogeneous cooling
     state (beta = 0; independent of nu and of the initial state).  T decays like e^{-r_1 t}, so
     dm_p/dt = -(r_p - p r_1) m_p + nu sum_{0<q<p} c_q m_q m_{p-q}, so m_p tends to its fixed point
     only while r_p > p r_1; beyond that p the scaled moment grows without bound (power-law HCS
     tail) and a ValueError is raised."""
+    check_dimension(d, (3,), "maxwell_hierarchy.hcs_scaled_moments")
     alpha = rational(alpha)
     rates, m = _decay_rates(pmax, alpha, Fraction(1)), [Fraction(1)]
     for p in range(1, pmax + 1):
@@ -222,7 +236,8 @@ def hcs_scaled_moments(pmax, alpha):
     return m
 
 
-def hcs_a2(alpha):
+def hcs_a2(alpha, d=3):
     """Sonine coefficient a2 = m_2/15 - 1 of the Maxwell homogeneous cooling state (exact)."""
+    check_dimension(d, (3,), "maxwell_hierarchy.hcs_a2")
     m = hcs_scaled_moments(2, alpha)
     return m[2] / 15 - 1

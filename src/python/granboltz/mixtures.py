@@ -1,16 +1,19 @@
-"""Beyond the papers: binary (and larger) mixtures of inelastic hard spheres, d = 3, dilute.  The
-Maxwellian partial cooling rates of Garzó & Dufty (1999) and the temperature ratios they give in
-the homogeneous cooling state (HCS) and under white noise; the Martin-Piasecki tracer limit; the
-table rows and verdict of the report item (rule beyond_mixture, docs/workflow.md).
+"""Beyond the papers: binary (and larger) mixtures of inelastic hard spheres (d = 3) and hard disks
+(d = 2), dilute.  The Maxwellian partial cooling rates of Garzó & Dufty (1999) and the temperature
+ratios they give in the homogeneous cooling state (HCS) and under white noise; the Martin-Piasecki
+tracer limit; the table rows and verdict of the report item (rule beyond_mixture, docs/workflow.md).
 
 Partial cooling rates [approx: every species Maxwellian at its own T_i; reference/beyond.md §4]:
 
-    zeta_i = (8 sqrt(pi)/3) sum_j n_j sigma_ij^2 mu_ji (1 + a_ij) (2 T_i/m_i + 2 T_j/m_j)^(1/2)
+    zeta_i = K_d sum_j n_j sigma_ij^(d-1) mu_ji (1 + a_ij) (2 T_i/m_i + 2 T_j/m_j)^(1/2)
              [1 - mu_ji (1 + a_ij) (1 + m_i T_j/(m_j T_i)) / 2],   mu_ji = m_j/(m_i + m_j),
 
-sigma_ij = (sigma_i + sigma_j)/2, dT_i/dt = -zeta_i T_i (units of the standard hard-sphere kernel
-B = sigma_ij^2 |g.n|; the simulator's C sigma_ij^2 |u| scales every zeta_i by one factor, which no
-ratio depends on).  HCS: zeta_1 = zeta_2 = ... (every T_i decays at one rate, so T_i/T is steady;
+K_d = 4 pi^((d-1)/2)/(d Gamma(d/2)) (8 sqrt(pi)/3 in d = 3, 2 sqrt(pi) in d = 2: Garzó-Dufty's d
+dimensions; the impact law, (g.n)+, whose <g_n^2> over impacts is the same in d = 2 and 3, so d
+enters only through K_d and sigma_ij^(d-1)), sigma_ij = (sigma_i + sigma_j)/2, dT_i/dt = -zeta_i
+T_i (units of the standard kernel B = sigma_ij^(d-1) |g.n|; the simulator's C sigma_ij^(d-1) |u|
+scales every zeta_i by one factor, which no ratio depends on; with equal diameters the ratios are
+the same in d = 2 and 3).  HCS: zeta_1 = zeta_2 = ... (every T_i decays at one rate, so T_i/T is steady;
 the Gaussian thermostat, which rescales all velocities by one factor, keeps exactly these ratios).
 White noise with the same velocity-kick variance xi^2 for every particle: dT_i/dt = m_i xi^2 -
 zeta_i T_i, so zeta_i T_i/m_i is the same for all i.
@@ -27,6 +30,8 @@ ratios at every alpha from 0.95 to 0.5.
 import math
 
 import numpy as np
+
+from .dimension import check_dimension, check_geometry, dsmc_geometry
 
 
 def _matrix(alpha, s):
@@ -50,10 +55,17 @@ def _species(masses, fractions, diameters):
     return m, x, sig
 
 
-def partial_cooling_rates(temperatures, masses, fractions, alpha, diameters=None, density=1.0):
-    """zeta_i of Garzó-Dufty (d = 3, Maxwellian species; see the module text) for the species
+def _dimension(what, d, geometry):
+    d = check_dimension(d, (2, 3), what)
+    check_geometry(d, geometry, what)
+    return d
+
+
+def partial_cooling_rates(temperatures, masses, fractions, alpha, diameters=None, density=1.0, d=3, geometry=None):
+    """zeta_i of Garzó-Dufty (Maxwellian species; see the module text) for the species
     temperatures T_i, masses m_i, number fractions x_i (n_i = x_i density), alpha (one value or a
-    symmetric matrix alpha_ij) and diameters sigma_i (default 1)."""
+    symmetric matrix alpha_ij) and diameters sigma_i (default 1), in d = 3 or 2 (impact law)."""
+    d = _dimension("partial_cooling_rates", d, geometry)
     m, x, sig = _species(masses, fractions, diameters)
     T = np.asarray(temperatures, dtype=float)
     a = _matrix(alpha, m.size)
@@ -61,9 +73,9 @@ def partial_cooling_rates(temperatures, masses, fractions, alpha, diameters=None
     mu_ji = m[None, :] / (m[:, None] + m[None, :])  # [i, j] = m_j/(m_i + m_j)
     speed = np.sqrt(2 * T[:, None] / m[:, None] + 2 * T[None, :] / m[None, :])
     ratio = m[:, None] * T[None, :] / (m[None, :] * T[:, None])  # m_i T_j/(m_j T_i)
-    terms = (density * x[None, :] * sij**2 * mu_ji * (1 + a) * speed
+    terms = (density * x[None, :] * (sij**2 if d == 3 else sij) * mu_ji * (1 + a) * speed
              * (1 - 0.5 * mu_ji * (1 + a) * (1 + ratio)))
-    return 8 * math.sqrt(math.pi) / 3 * terms.sum(axis=1)
+    return (8 * math.sqrt(math.pi) / 3 if d == 3 else 2 * math.sqrt(math.pi)) * terms.sum(axis=1)
 
 
 def _solve(residual, s):
@@ -77,13 +89,13 @@ def _solve(residual, s):
     return sol.x
 
 
-def _frequencies(T, m, x, sig):
-    """nu_i = sum_j x_j sigma_ij^2 (2 T_i/m_i + 2 T_j/m_j)^(1/2): the scale of zeta_i (never 0)."""
+def _frequencies(T, m, x, sig, d):
+    """nu_i = sum_j x_j sigma_ij^(d-1) (2 T_i/m_i + 2 T_j/m_j)^(1/2): the scale of zeta_i (never 0)."""
     sij = (sig[:, None] + sig[None, :]) / 2
-    return (x[None, :] * sij**2 * np.sqrt(2 * T[:, None] / m[:, None] + 2 * T[None, :] / m[None, :])).sum(axis=1)
+    return (x[None, :] * (sij**2 if d == 3 else sij) * np.sqrt(2 * T[:, None] / m[:, None] + 2 * T[None, :] / m[None, :])).sum(axis=1)
 
 
-def _ratios(masses, fractions, alpha, diameters, heated):
+def _ratios(masses, fractions, alpha, diameters, heated, d):
     """gamma_i = T_i/T where zeta_i (heated: zeta_i T_i/m_i) is the same for every species."""
     m, x, sig = _species(masses, fractions, diameters)
     a = _matrix(alpha, m.size)
@@ -93,47 +105,41 @@ def _ratios(masses, fractions, alpha, diameters, heated):
     def residual(y):
         T = np.exp(np.concatenate([[0.0], y]))
         weight = T / m if heated else np.ones_like(T)
-        q = partial_cooling_rates(T, m, x, a, sig) * weight
-        scale = _frequencies(T, m, x, sig) * weight  # differences relative to it: fine where zeta = 0 (alpha = 1)
+        q = partial_cooling_rates(T, m, x, a, sig, d=d) * weight
+        scale = _frequencies(T, m, x, sig, d) * weight  # differences relative to it: fine where zeta = 0 (alpha = 1)
         return (q[1:] - q[0]) / (scale[1:] + scale[0])
 
     T = np.exp(np.concatenate([[0.0], _solve(residual, m.size)]))
     return T / np.dot(x, T)
 
 
-def hcs_temperature_ratios(masses, fractions, alpha, diameters=None):
+def hcs_temperature_ratios(masses, fractions, alpha, diameters=None, d=3, geometry=None):
     """gamma_i = T_i/T (T = sum x_i T_i) of the homogeneous cooling state, zeta_1 = zeta_2 = ...
     [approx: Garzó-Dufty 1999, Maxwellian species]; T1/T2 = gamma[0]/gamma[1]."""
-    return _ratios(masses, fractions, alpha, diameters, heated=False)
+    return _ratios(masses, fractions, alpha, diameters, False, _dimension("hcs_temperature_ratios", d, geometry))
 
 
-def white_noise_temperature_ratios(masses, fractions, alpha, diameters=None):
+def white_noise_temperature_ratios(masses, fractions, alpha, diameters=None, d=3, geometry=None):
     """gamma_i = T_i/T of the white-noise steady state with the same velocity-kick variance for
     every particle (Barrat-Trizac): zeta_i T_i/m_i equal for all i [approx: Garzó-Dufty rates]."""
-    return _ratios(masses, fractions, alpha, diameters, heated=True)
+    return _ratios(masses, fractions, alpha, diameters, True, _dimension("white_noise_temperature_ratios", d, geometry))
 
 
-def temperature_ratio(thermostat, mass_ratio, alpha, x1=0.5, diameter_ratio=1.0):
+def temperature_ratio(thermostat, mass_ratio, alpha, x1=0.5, diameter_ratio=1.0, d=3, geometry=None):
     """T1/T2 of two species with m1/m2 = mass_ratio, fraction x1 of species 1, common alpha and
     sigma1/sigma2 = diameter_ratio: thermostat "gaussian" (HCS) or "white_noise"."""
     solve = {"gaussian": hcs_temperature_ratios, "white_noise": white_noise_temperature_ratios}[thermostat]
-    g = solve([float(mass_ratio), 1.0], [x1, 1 - x1], alpha, [float(diameter_ratio), 1.0])
+    g = solve([float(mass_ratio), 1.0], [x1, 1 - x1], alpha, [float(diameter_ratio), 1.0], d, geometry)
     return float(g[0] / g[1])
 
 
-def martin_piasecki(alpha0, mass_ratio):
+def martin_piasecki(alpha0, mass_ratio, d=3):
     """T0/T of an inelastic tracer (restitution alpha0 with the bath, mass m0) in an elastic bath
     of temperature T and particle mass m, mass_ratio = m/m0 [approx: Maxwellian tracer]:
-    (1 + alpha0)/(2 + (1 - alpha0) m/m0) (Martin & Piasecki 1999; the TV06 curve)."""
+    (1 + alpha0)/(2 + (1 - alpha0) m/m0) (Martin & Piasecki 1999; the TV06 curve), the same in
+    d = 1, 2 and 3 (the tracer limit of partial_cooling_rates, whose d is a common factor)."""
+    check_dimension(d, (1, 2, 3), "martin_piasecki")
     return (1 + alpha0) / (2 + (1 - alpha0) * mass_ratio)
-
-
-def ratio_interval(a, sa, b, sb, rho):
-    """(r, sigma_r) of r = a/b from two estimates with standard errors sa, sb and correlation rho
-    (delta method, first order): sigma_r^2 = r^2 (sa^2/a^2 + sb^2/b^2 - 2 rho sa sb/(a b))."""
-    r = a / b
-    var = r**2 * ((sa / a) ** 2 + (sb / b) ** 2 - 2 * rho * sa * sb / (a * b))
-    return r, math.sqrt(max(var, 0.0))
 
 
 def mixture_correlation(s1, s2, s_mix, x1, x2):
@@ -151,10 +157,13 @@ def mixture_correlation(s1, s2, s_mix, x1, x2):
 
 def mixture_rows(runs):
     """One row per steady binary-mixture run (read_run objects with dsmc.species of two species,
-    the first the heavier): mass_ratio = m1/m2, alpha, T1/T2 from the steady species temperatures
-    with its half-width (ratio_interval with mixture_correlation; the half-width is lambda_p sigma,
-    lambda_p of the file's steady T1), Garzó-Dufty's T1/T2 for the thermostat, x1 and the
-    diameters of the run, and difference = ours/GD - 1 (relative, with sign)."""
+    the first the heavier): mass_ratio = m1/m2, alpha, T1/T2 with its half-width (the simulator's
+    /steady/temperature_ratio/<1>_over_<2>: the ratio of the steady averages, its interval by the
+    delta method with the measured covariance of T1 and T2 over the ensembles; granboltz.ratios),
+    Garzó-Dufty's T1/T2 for the thermostat, x1, the diameters and d of the run, difference =
+    ours/GD - 1 (relative, with sign), and the correlation of the steady T1 and T2
+    (mixture_correlation).  ValueError naming the file for a run without the stored ratio (a
+    simulator that did not store it: rerun)."""
     rows = []
     for run in runs:
         d = run.config["dsmc"]
@@ -165,17 +174,20 @@ def mixture_rows(runs):
         alpha = d["alpha"]
         if not isinstance(alpha, (int, float)):
             raise ValueError(f"{run.path}: the table needs one alpha for every pair")
-        t1, t2, tm = sp1.steady["temperature"], sp2.steady["temperature"], run.steady["temperature"]
+        key = f"temperature_ratio/{n1}_over_{n2}"
+        if key not in run.steady:
+            raise ValueError(f"{run.path}: no /steady/{key} (a simulator older than the stored ratios): rerun it")
+        t1, t2, tm, r = sp1.steady["temperature"], sp2.steady["temperature"], run.steady["temperature"], run.steady[key]
         rho = mixture_correlation(float(t1.sigma), float(t2.sigma), float(tm.sigma), sp1.fraction, sp2.fraction)
-        r, sr = ratio_interval(float(t1.mean), float(t1.sigma), float(t2.mean), float(t2.sigma), rho)
-        z = float(t1.ci) / float(t1.sigma) if float(t1.sigma) > 0 else 0.0
         x1 = sp1.fraction  # N1/n, the fraction the run has
-        gd = temperature_ratio(th, sp1.mass / sp2.mass, alpha, x1, sp1.diameter / sp2.diameter)
-        rows.append({"mass_ratio": sp1.mass / sp2.mass, "alpha": float(alpha), "t1_t2": r, "t1_t2_ci": z * sr,
-                     "t1_t2_garzo_dufty": gd, "difference": r / gd - 1, "thermostat": th, "x1": x1,
+        dim, geometry = dsmc_geometry(d)
+        gd = temperature_ratio(th, sp1.mass / sp2.mass, alpha, x1, sp1.diameter / sp2.diameter, dim, geometry)
+        value = float(r.mean)
+        rows.append({"mass_ratio": sp1.mass / sp2.mass, "alpha": float(alpha), "t1_t2": value, "t1_t2_ci": float(r.ci),
+                     "t1_t2_garzo_dufty": gd, "difference": value / gd - 1, "thermostat": th, "x1": x1,
                      "n": int(d["particles"]), "N": int(run.config["ensembles"]),
                      "T1": float(t1.mean), "T1_ci": float(t1.ci), "T2": float(t2.mean), "T2_ci": float(t2.ci),
-                     "correlation": rho, "species": f"{n1}/{n2}"})
+                     "correlation": rho, "species": f"{n1}/{n2}", "d": dim})
     return sorted(rows, key=lambda r: (r["mass_ratio"], -r["alpha"]))
 
 

@@ -12,6 +12,7 @@ from math import pi, sqrt
 import numpy as np
 
 from . import maxwell_hierarchy as mh
+from .dimension import check_dimension
 from .io import open_run, read_config, read_finite
 from .tail_theory import amplitude_and_chi_from_moments, amplitude_from_moments, tail_amplitude
 
@@ -24,14 +25,15 @@ RW05_COLUMNS = ["n", "N", "t", "M4", "M4_ci", "M4_exact", "M4_sigma", "crit", "c
 
 def hierarchy_physics(config):
     """(alpha, beta, nu, T0) of a run config (its dsmc section) as Fractions for the hierarchy;
-    nu = 4 pi C0 gamma with pi*C0 recovered as a simple fraction (1/4 for C0 = 1/(4 pi))."""
+    nu = 4 pi C0 gamma with pi*C0 recovered as a simple fraction (1/4 for C0 = 1/(4 pi)).
+    ValueError for lambda != 0 or d != 3 (the hierarchy's)."""
     d = config["dsmc"]
     if float(d["kernel"]["lambda"]) != 0.0:
         raise ValueError(f"the exact hierarchy needs lambda = 0, not {d['kernel']['lambda']}")
     pi_c = Fraction(float(d["kernel"]["C"]) * pi).limit_denominator(1000)
     frac = [Fraction(str(d[k])) for k in ("alpha", "beta")]
     T0 = Fraction(str(d.get("initial", {}).get("temperature", 1.0)))
-    return frac[0], frac[1], mh.collision_rate(Fraction(str(d["gamma"])), pi_c), T0
+    return frac[0], frac[1], mh.collision_rate(Fraction(str(d["gamma"])), pi_c, int(d.get("dimension", 3))), T0
 
 
 def read_speed_moments(path, row=-1):
@@ -44,12 +46,12 @@ def read_speed_moments(path, row=-1):
         return config, float(read_finite(f, "time", path)[row]), np.array(mean), np.array(ci)
 
 
-def moment_rows(means, cis, alpha, beta, nu, T0, t):
+def moment_rows(means, cis, alpha, beta, nu, T0, t, d=3):
     """Rows p, exact (M_2p at time t from a Maxwellian of temperature T0), ours, ci, sigma,
-    exact_steady for p = 1..len(means)."""
+    exact_steady for p = 1..len(means) (d = 3: the hierarchy's)."""
     P = len(means)
-    timed = mh.time_dependent_moments(P, alpha, beta, nu, T0)
-    steady = mh.steady_moments(P, alpha, beta, nu)
+    timed = mh.time_dependent_moments(P, alpha, beta, nu, T0, d)
+    steady = mh.steady_moments(P, alpha, beta, nu, d)
     rows = []
     for p in range(1, P + 1):
         exact = float(mh.evaluate(timed[p], [t])[0])
@@ -74,13 +76,13 @@ def moment_verdict(rows):
     return f"differs: {len(out)} of {len(rows)} moments outside their ci: {bad} {tail}"
 
 
-def amplitude_rows(alpha, beta, nu, pmax=40, lam=0.0):
-    """The tail amplitude of the exact steady moments M_0..M_2pmax (lambda = 0): rows p = 0..pmax-2, ratio M_{2p+2}/M_2p,
-    a_chi0 (chi = 0), a and chi (from two successive ratios), a_theory = sqrt(nu/beta)."""
-    M = mh.steady_moments(pmax, alpha, beta, nu)
-    a0 = amplitude_from_moments(M)
-    a, chi = amplitude_and_chi_from_moments(M)
-    a_th = tail_amplitude(float(nu), float(beta), lam)
+def amplitude_rows(alpha, beta, nu, pmax=40, lam=0.0, d=3):
+    """The tail amplitude of the exact steady moments M_0..M_2pmax (lambda = 0, d = 3): rows p = 0..pmax-2, ratio
+    M_{2p+2}/M_2p, a_chi0 (chi = 0), a and chi (from two successive ratios), a_theory = sqrt(nu/beta)."""
+    M = mh.steady_moments(pmax, alpha, beta, nu, d)
+    a0 = amplitude_from_moments(M, d=d)
+    a, chi = amplitude_and_chi_from_moments(M, d)
+    a_th = tail_amplitude(float(nu), float(beta), lam, d)
     return [{"p": p, "ratio": float(M[p + 1] / M[p]), "a_chi0": float(a0[p]), "a": float(a[p]),
              "chi": float(chi[p]), "a_theory": a_th} for p in range(len(a))]
 
@@ -117,7 +119,8 @@ def _sigma(ours, exact, ci):
 def crit_estimator_bias(run):
     """Bias of Crit at the ensemble means from the spread of the per-ensemble temperatures:
     mean(M4_i - 15 T_i^2) = mean M4 - 15 (mean T)^2 - 15 var(T_i), so Crit is low by about
-    15 var(T_i) / (sqrt(120) T^2) (var(T_i) = N se_T^2), [M+1]."""
+    15 var(T_i) / (sqrt(120) T^2) (var(T_i) = N se_T^2), [M+1].  d = 3 (RW05's Crit)."""
+    check_dimension(int(run.dsmc.get("dimension", 3)), (3,), "crit_estimator_bias")
     var_T = run.N * (run.T_centred_ci / Z) ** 2
     return 15.0 * var_T / (sqrt(120.0) * run.T_centred**2)
 

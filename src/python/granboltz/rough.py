@@ -1,118 +1,155 @@
-"""Beyond the papers: rough inelastic hard spheres (normal restitution alpha, tangential beta in
-[-1, 1], reduced moment of inertia kappa = 4I/(m sigma^2), 2/5 for a uniform sphere), d = 3.  The
-Maxwellian two-temperature theory of Huthmann & Zippelius (1997) and Luding et al. (1998), the
-ratio theta = T_rot/T_tr it gives in the homogeneous cooling state (HCS) and under white noise on
-the translational velocities; the table rows and verdict of the report item (rule beyond_rough).
+"""Beyond the papers: rough inelastic hard spheres (d = 3) and disks (d = 2): normal restitution
+alpha, tangential beta in [-1, 1], reduced moment of inertia kappa = 4I/(m sigma^2) (2/5 a uniform
+sphere, 1/2 a uniform disk).  The Maxwellian two-temperature theory of Huthmann & Zippelius (1997)
+and Luding et al. (1998), in d dimensions; the ratio theta = T_rot/T_tr it gives in the
+homogeneous cooling state (HCS) and under white noise on the translational velocities; the table
+rows and verdict of the report item (rule beyond_rough).
 
-[approx; reference/beyond.md §5] eta = kappa (1 + beta)/(2 (1 + kappa)),
-A = (1 - alpha^2)/4 + eta (1 - eta), B = eta^2/kappa, C = (eta/kappa)(1 - eta/kappa):
-
-    dT_tr/dt  = -(4 nu/3) (A T_tr - B T_rot),
-    dT_rot/dt =  (4 nu/3) (B T_tr - C T_rot),   nu = 4 n sigma^2 sqrt(pi T_tr/m).
-
-HCS: both temperatures decay at one rate, so theta solves B theta^2 + (A - C) theta - B = 0,
-theta = h + sqrt(1 + h^2), h = (A - C)/(2B), which is
-h = (1 + kappa)/(2 kappa (1 + beta)^2) [(1 + kappa)(1 - alpha^2) - (1 - kappa)(1 - beta^2)].
-The Gaussian thermostat rescales velocities and spins by one factor (the total energy fixed), so
-its steady theta is the HCS one.  White noise heats T_tr only; the rotational equation alone is
-then steady at theta = B/C = kappa (1 + beta)/(1 + 2 kappa - beta), independent of alpha.
+Derivation [approx: both velocities and spins Maxwellian; docs/physics.md, Rough particles].  With
+g = v1 - v2, n the impact normal, s the spins' part of the contact velocity and w = g_t + s its
+tangential part, the map of reference/beyond.md §5 changes the pair's energies by
+    dE_tr = m [-(1 - alpha^2) g_n^2/4 + eta^2 |w|^2 - eta w.g_t],
+    dE_rot = m [(eta^2/kappa) |w|^2 - eta w.s],       eta = kappa (1 + beta)/(2 (1 + kappa)).
+Averaged over impacts (weight (g.n)+, the hard-sphere and hard-disk law: geometry "impact") with
+g Maxwellian (variance 2T/m per component) and independent spins: <g_n^2> = 4T/m in every d,
+<|g_t|^2> = 2(d-1) T/m, <|s|^2> = 2(d-1) T_rot/(kappa m) (d - 1 tangential directions; d_rot = 3
+spin components in d = 3, 1 in d = 2), <g_t.s> = 0.  With the collision frequency nu per particle
+and the energies d T/2, d_rot T_rot/2 per particle:
+    dT_tr/dt  = -(2(d-1) nu/d) (A T_tr - B T_rot),      A = (1 - alpha^2)/(2(d-1)) + eta (1 - eta),
+    dT_rot/dt =  (2(d-1) nu/d_rot) (B T_tr - C T_rot),  B = eta^2/kappa, C = (eta/kappa)(1 - eta/kappa),
+d = 3 (4 nu/3 both, A = (1 - alpha^2)/4 + ...): beyond.md §5; d = 2: nu (A = (1 - alpha^2)/2 + ...)
+and 2 nu.  nu = n sigma^(d-1) pi^((d-1)/2) 2 sqrt(T_tr/m)/Gamma(d/2): 4 n sigma^2 sqrt(pi T/m) (d = 3),
+2 n sigma sqrt(pi T/m) (d = 2).  The initial rates from a Maxwellian are exact (test_rough_theory).
+HCS: both decay at one rate, so with r = d_rot/d, r B theta^2 + (C - r A) theta - B = 0,
+    theta = h + sqrt(h^2 + 1/r),  h = (r A - C)/(2 r B),
+in d = 3 h + sqrt(1 + h^2), h = (1 + kappa)/(2 kappa (1 + beta)^2) [(1 + kappa)(1 - alpha^2) - (1 - kappa)(1 - beta^2)];
+in d = 2 h + sqrt(2 + h^2), h = (A - 2C)/(2B).  The Gaussian thermostat rescales velocities and spins
+by one factor (the total energy fixed), so its steady theta is the HCS one.  White noise heats T_tr
+only; the rotational equation alone is then steady at theta = B/C = kappa (1 + beta)/(1 + 2 kappa - beta)
+in every d.  Limits: alpha = beta = 1 gives A = B = C and theta = 1 (equipartition) in every d;
+beta = -1 (smooth) gives B = C = 0, T_rot constant, no steady theta (NaN).
 Known quality (beyond.md §5): in the HCS at alpha = 0.8-0.9 simulations put theta 4-5 % below
 this formula; under white noise within 1 %.  This project's runs (rule beyond_rough, quick
 profile) agree with the first for beta = 0 (-4.6 % at alpha = 0.9) but find the gap shrinking
 with beta (-1.8 % at 0.5, +0.1 % at 0.9) and growing at stronger dissipation (-8 % at
 alpha = 0.7 and 0.5, beta = 0); under white noise they find -2.5 % (beta = 0), -1.4 % (0.5) and
--0.3 % (0.9): beyond 1 % for beta <= 0.5, a disagreement with beyond.md's account.
+-0.3 % (0.9): beyond 1 % for beta <= 0.5, a disagreement with beyond.md's account.  Rough disks
+(d = 2, kappa = 1/2, this simulator; docs/physics.md): HCS beta = 0 -5.3 % (alpha = 0.9), -9.4 %
+(0.7), -13.5 % (0.5); beta = 0.5 -2.5, -4.2, -5.8 %; beta = 0.9 -0.4, -0.1 %; white noise -3.0,
+-2.1, -0.7 % (beta = 0, 0.5, 0.9).  The d = 3 formula is 12-64 % above them at beta <= 0.5.
 """
 
 import numpy as np
 
+from .dimension import check_dimension, check_geometry, run_geometry
+
 KAPPA_SPHERE = 0.4  # kappa of a uniform solid sphere, I = m sigma^2/10
+KAPPA_DISK = 0.5  # kappa of a uniform disk, I = m sigma^2/8
 
 
-def _check(beta, kappa):
+def _setup(what, beta, kappa, d, geometry):
+    """(d, kappa) checked: d 2 or 3, geometry impact in d = 2, -1 <= beta <= 1, kappa > 0 (None:
+    the uniform sphere or disk of d)."""
+    d = check_dimension(d, (2, 3), what)
+    check_geometry(d, geometry, what)
+    kappa = (KAPPA_SPHERE if d == 3 else KAPPA_DISK) if kappa is None else kappa
     if np.any(np.abs(np.asarray(beta, float)) > 1) or np.any(np.asarray(kappa, float) <= 0):
-        raise ValueError(f"need -1 <= beta <= 1 and kappa > 0 (beta {beta}, kappa {kappa})")
+        raise ValueError(f"{what}: need -1 <= beta <= 1 and kappa > 0 (beta {beta}, kappa {kappa})")
+    return d, kappa
 
 
-def coefficients(alpha, beta, kappa=KAPPA_SPHERE):
-    """(A, B, C) of the two-temperature equations (module text)."""
-    _check(beta, kappa)
+def coefficients(alpha, beta, kappa=None, d=3, geometry=None):
+    """(A, B, C) of the two-temperature equations in d dimensions (module text)."""
+    d, kappa = _setup("rough.coefficients", beta, kappa, d, geometry)
     alpha, beta = np.asarray(alpha, float), np.asarray(beta, float)
     eta = kappa * (1 + beta) / (2 * (1 + kappa))
-    return (1 - alpha**2) / 4 + eta * (1 - eta), eta**2 / kappa, eta / kappa * (1 - eta / kappa)
+    normal = (1 - alpha**2) / 4 if d == 3 else (1 - alpha**2) / 2
+    return normal + eta * (1 - eta), eta**2 / kappa, eta / kappa * (1 - eta / kappa)
 
 
-def temperature_rates(T_tr, T_rot, alpha, beta, kappa=KAPPA_SPHERE, density=1.0, sigma=1.0, mass=1.0):
-    """(dT_tr/dt, dT_rot/dt) of free cooling [approx: Maxwellian], units of the kernel
-    B = sigma^2 |g.n| (the simulator's C sigma^2 |u| multiplies both by 4 pi C)."""
-    A, B, C = coefficients(alpha, beta, kappa)
-    nu = 4 * density * sigma**2 * np.sqrt(np.pi * np.asarray(T_tr, float) / mass)
-    return -(4 * nu / 3) * (A * T_tr - B * T_rot), (4 * nu / 3) * (B * T_tr - C * T_rot)
+def temperature_rates(T_tr, T_rot, alpha, beta, kappa=None, density=1.0, sigma=1.0, mass=1.0, d=3,
+                      geometry=None):
+    """(dT_tr/dt, dT_rot/dt) of free cooling [approx: Maxwellian; exact at a Maxwellian state], in
+    units of the hard-sphere (hard-disk) kernel sigma^(d-1) (g.n)+ per unit solid angle; the
+    simulator's gamma C sigma^(d-1) |u| with the impact law multiplies both by 4 gamma C (d = 3) or
+    pi gamma C (d = 2)."""
+    A, B, C = coefficients(alpha, beta, kappa, d, geometry)
+    T = np.asarray(T_tr, float)
+    if d == 3:
+        nu = 4 * density * sigma**2 * np.sqrt(np.pi * T / mass)
+        return -(4 * nu / 3) * (A * T_tr - B * T_rot), (4 * nu / 3) * (B * T_tr - C * T_rot)
+    nu = 2 * density * sigma * np.sqrt(np.pi * T / mass)
+    return -nu * (A * T_tr - B * T_rot), 2 * nu * (B * T_tr - C * T_rot)
 
 
-def hcs_theta(alpha, beta, kappa=KAPPA_SPHERE):
-    """theta = T_rot/T_tr of the HCS, h + sqrt(1 + h^2) [approx: Huthmann-Zippelius]; for
-    beta = -1 (smooth spheres, no coupling) the limit is infinite: NaN is returned there."""
-    _check(beta, kappa)
+def hcs_theta(alpha, beta, kappa=None, d=3, geometry=None):
+    """theta = T_rot/T_tr of the HCS [approx: Maxwellian, Huthmann-Zippelius in d dimensions]:
+    h + sqrt(1 + h^2) in d = 3, h + sqrt(2 + h^2) in d = 2 (module text); for beta = -1 (smooth,
+    no coupling) the limit is infinite: NaN is returned there."""
+    d, kappa = _setup("rough.hcs_theta", beta, kappa, d, geometry)
     alpha, beta = np.asarray(alpha, float), np.asarray(beta, float)
     with np.errstate(divide="ignore", invalid="ignore"):
-        h = (1 + kappa) / (2 * kappa * (1 + beta) ** 2) * ((1 + kappa) * (1 - alpha**2) - (1 - kappa) * (1 - beta**2))
-        theta = h + np.sqrt(1 + h**2)
+        if d == 3:
+            h = (1 + kappa) / (2 * kappa * (1 + beta) ** 2) * ((1 + kappa) * (1 - alpha**2) - (1 - kappa) * (1 - beta**2))
+            theta = h + np.sqrt(1 + h**2)
+        else:
+            A, B, C = coefficients(alpha, beta, kappa, 2)
+            h = (A - 2 * C) / (2 * B)
+            theta = h + np.sqrt(2 + h**2)
     return np.where(beta > -1, theta, np.nan)[()]
 
 
-def white_noise_theta(beta, kappa=KAPPA_SPHERE):
+def white_noise_theta(beta, kappa=None, d=3, geometry=None):
     """theta of white noise on the translational velocities, kappa (1 + beta)/(1 + 2 kappa - beta),
-    independent of alpha [approx: Maxwellian]."""
-    _check(beta, kappa)
+    independent of alpha and the same in d = 2 and 3 [approx: Maxwellian]."""
+    d, kappa = _setup("rough.white_noise_theta", beta, kappa, d, geometry)
     beta = np.asarray(beta, float)
     return (kappa * (1 + beta) / (1 + 2 * kappa - beta))[()]
 
 
-def theta(thermostat, alpha, beta, kappa=KAPPA_SPHERE):
+def theta(thermostat, alpha, beta, kappa=None, d=3, geometry=None):
     """The Maxwellian theta of a thermostat: "gaussian" (HCS) or "white_noise"."""
     if thermostat == "gaussian":
-        return hcs_theta(alpha, beta, kappa)
+        return hcs_theta(alpha, beta, kappa, d, geometry)
     if thermostat == "white_noise":
-        return white_noise_theta(beta, kappa)
+        return white_noise_theta(beta, kappa, d, geometry)
     raise ValueError(f"no steady theta for thermostat {thermostat!r}")
 
 
-def theta_interval(T_rot, s_rot, T_tr, s_tr):
-    """(theta, sigma) of theta = T_rot/T_tr from the two steady estimates with their standard
-    errors, taking their correlation as -1: sigma = theta (s_rot/T_rot + s_tr/T_tr), the largest the
-    delta method allows for any correlation, hence conservative.  Under the Gaussian thermostat it
-    is the actual value: the thermostat holds T_tr + T_rot (the total energy), so the estimates
-    move exactly against each other."""
-    th = T_rot / T_tr
-    return th, th * (s_rot / T_rot + s_tr / T_tr)
-
-
 def rough_rows(runs):
-    """One row per steady rough-sphere run (read_run objects with dsmc.roughness): thermostat,
-    alpha, beta, kappa, theta = T_rot/T_tr from the steady averages with its half-width
-    (theta_interval, lambda_p of the file), the Maxwellian theta and difference = ours/Maxwellian - 1."""
+    """One row per steady rough-particle run (read_run objects with dsmc.roughness, hard spheres or
+    disks: kernel.lambda 1): thermostat, alpha, beta, kappa, d, theta = T_rot/T_tr with its half-width
+    (the simulator's /steady/theta: the ratio of the steady averages, its interval by the delta
+    method with the measured covariance of T_rot and T_tr over the ensembles; granboltz.ratios),
+    the Maxwellian theta of the run's d and difference = ours/Maxwellian - 1.  ValueError naming
+    the file for a run without roughness, of another kernel, or without /steady/theta (made by a
+    simulator that did not store it: rerun)."""
     rows = []
     for run in runs:
         d = run.config["dsmc"]
         rough = d.get("roughness")
         if not isinstance(rough, dict):
             raise ValueError(f"{run.path}: not a rough-sphere run (no dsmc.roughness)")
+        if float(d["kernel"]["lambda"]) != 1:
+            raise ValueError(f"{run.path}: the Maxwellian theta is of hard spheres and disks (kernel.lambda 1), "
+                             f"not lambda = {d['kernel']['lambda']}")
+        if "theta" not in run.steady:
+            raise ValueError(f"{run.path}: no /steady/theta (a simulator older than the stored ratios): rerun it")
         th_name, alpha = d.get("thermostat", "white_noise"), float(d["alpha"])
         beta, kappa = float(rough["beta"]), float(rough["inertia"])
-        rot, tr = run.steady["temperature_rotational"], run.steady["temperature"]
-        value, sigma = theta_interval(float(rot.mean), float(rot.sigma), float(tr.mean), float(tr.sigma))
-        z = float(tr.ci) / float(tr.sigma) if float(tr.sigma) > 0 else 0.0
-        ref = float(theta(th_name, alpha, beta, kappa))
-        rows.append({"thermostat": th_name, "alpha": alpha, "beta": beta, "theta": value, "theta_ci": z * sigma,
+        dim, geometry = run_geometry(run)
+        rot, tr, th = run.steady["temperature_rotational"], run.steady["temperature"], run.steady["theta"]
+        ref = float(theta(th_name, alpha, beta, kappa, dim, geometry))
+        value = float(th.mean)
+        rows.append({"thermostat": th_name, "alpha": alpha, "beta": beta, "theta": value, "theta_ci": float(th.ci),
                      "theta_maxwellian": ref, "difference": value / ref - 1, "kappa": kappa,
                      "n": int(d["particles"]), "N": int(run.config["ensembles"]),
-                     "T_tr": float(tr.mean), "T_rot": float(rot.mean)})
-    return sorted(rows, key=lambda r: (r["thermostat"], -r["alpha"], r["beta"]))
+                     "T_tr": float(tr.mean), "T_rot": float(rot.mean), "d": dim})
+    return sorted(rows, key=lambda r: (r["d"], r["thermostat"], -r["alpha"], r["beta"]))
 
 
 def rough_verdict(rows):
-    """(ours, short) texts over the rows of rough_rows, per thermostat: the range of the measured
+    """(ours, short) texts over the rows of rough_rows, per d and thermostat: the range of the measured
     relative differences from the Maxwellian theta and how many exceed their interval.  A
     comparison with an approximation, never a failure (beyond.md §5 expects the HCS theta 4-5 %
     below the formula at alpha = 0.8-0.9 and white noise within 1 %)."""
@@ -120,8 +157,8 @@ def rough_verdict(rows):
         return "no runs", "no runs"
     names = {"gaussian": "HCS", "white_noise": "white noise"}
     ours, short = [], []
-    for th in ("gaussian", "white_noise"):
-        mine = [r for r in rows if r["thermostat"] == th]
+    for dim, th in ((d, t) for d in (3, 2) for t in ("gaussian", "white_noise")):
+        mine = [r for r in rows if r["thermostat"] == th and int(r.get("d", 3)) == dim]
         if not mine:
             continue
         lo, hi = min(r["difference"] for r in mine), max(r["difference"] for r in mine)
@@ -129,7 +166,8 @@ def rough_verdict(rows):
         cells = ", ".join(f"α {r['alpha']:g} β {r['beta']:g}: {r['theta']:.4f} ± {r['theta_ci']:.4f} vs "
                           f"{r['theta_maxwellian']:.4f} ({r['difference']:+.2%})" for r in mine)
         span = f"{lo:+.1%}" if np.isclose(lo, hi, atol=5e-4) else f"{lo:+.1%} to {hi:+.1%}"
-        ours.append(f"{names[th]}: differs by {span} ({out} of {len(mine)} outside the interval; {cells})")
-        short.append(f"{names[th]} {span}")
+        name = names[th] + ("" if dim == 3 else " (disks)")
+        ours.append(f"{name}: differs by {span} ({out} of {len(mine)} outside the interval; {cells})")
+        short.append(f"{name} {span}")
     return ("θ = T_rot/T_tr compared with the Maxwellian approximation (Huthmann–Zippelius): " + "; ".join(ours),
             "compared with an approximation (Maxwellian), differs by " + ", ".join(short))

@@ -11,6 +11,8 @@
     run.species["heavy"].temperature # a mixture's species (granboltz.species): observables, .a2, .steady,
                                      # .mass, .diameter, .fraction, .particles, .events
     run.temperature_rotational       # rough spheres: T_rot (run.temperature stays translational)
+    run.theta, run.steady["theta"]   # rough spheres: theta = T_rot/T with its interval (granboltz.ratios)
+    run.temperature_ratios["a_over_b"]  # mixtures: T_a/T_b per row; steady: run.steady["temperature_ratio/a_over_b"]
     run.config, run.provenance       # the resolved config; version, commit, threads, wall time, ...
 
 A merged file (`granboltz merge`) is identical to the unsharded run and reads the same; a single
@@ -116,6 +118,15 @@ class Run:
         from .summary import summarize
 
         return summarize(self)
+
+    @property
+    def temperature_ratios(self):
+        """{"<a>_over_<b>": Observable} of a mixture: T_a/T_b per row for every pair a < b of its
+        species (granboltz.ratios); the steady ones are run.steady["temperature_ratio/<a>_over_<b>"].
+        {} for a one-species run and for files of simulators that did not store them.  (TV06's
+        intruder has an observable temperature_ratio of its own: run.temperature_ratio.)"""
+        head = "temperature_ratio/"
+        return {k[len(head):]: v for k, v in self.__dict__.get("observables", {}).items() if k.startswith(head)}
 
     @property
     def shard(self):
@@ -226,7 +237,7 @@ def _read(reader, config, model):
         if name not in events and not (name == "species" and layout.get("species")):
             events[name] = read_dataset(f, f"events/{name}", path)
 
-    steady = {name.rpartition("/")[2]: Observable(name=name, **fields)
+    steady = {name.partition("/")[2]: Observable(name=name, **fields)
               for name, fields in read_steady(reader, layout, n).items()}
     if "steady" in reader.names("/"):
         for name in reader.names("steady"):

@@ -8,6 +8,7 @@ import math
 import numpy as np
 
 from .tables import cf_column
+from .dimension import dsmc_geometry
 from .theory import LAMBDA_P, dsmc_physics, scheme_steady_temperature, uncentred_expectation
 
 
@@ -38,15 +39,16 @@ def steady_rows(steadies, nosplit, dt_unit):
         scheme = d.get("scheme", "nosplit")
         T0, alpha, beta, gamma, C0 = dsmc_physics(d)
         dt = None if scheme == "nosplit" else d["t_end"] / d["steps"]
-        T_exact = scheme_steady_temperature("nosplit", None, alpha, beta, gamma, C0)
-        T_scheme = scheme_steady_temperature(scheme, dt, alpha, beta, gamma, C0)
+        dim, geometry = dsmc_geometry(d)
+        T_exact = scheme_steady_temperature("nosplit", None, alpha, beta, gamma, C0, dim, geometry)
+        T_scheme = scheme_steady_temperature(scheme, dt, alpha, beta, gamma, C0, dim, geometry)
         t_avg = s["time"][s["time"] > d["steady_from"] + 1e-12]
         rows.append({
             "method": scheme, "K": None if dt is None else int(round(dt_unit / dt)), "n": s["n"], "dt": dt,
             "T_inf": s["mean"], "Conf": s["ci"], "Conf_batch": s.get("ci_batch"),
             "tau_int": s.get("tau_int_batch"), "Error": abs(s["mean"] - T_exact), "T_exact": T_exact,
             "Error_percent": 100 * abs(s["mean"] - T_exact) / T_exact, "T_scheme": T_scheme,
-            "T_expected": float(np.mean(uncentred_expectation(T_scheme, t_avg, T0, beta, s["n"]))),
+            "T_expected": float(np.mean(uncentred_expectation(T_scheme, t_avg, T0, beta, s["n"], dim))),
             "T_inf_centred": s["mean_centred"], "samples": int(t_avg.size * s["N"]),
             "wall_seconds": s["wall_seconds"], "CPU": s["wall_seconds"] / nosplit["wall_seconds"],
         })

@@ -67,7 +67,10 @@ class Study:
         """One row per point: the grid keys, hash, and the run's observables: its steady averages
         with their intervals where the run has them (steady_from), else the last row of its time
         series: temperature, temperature_ci, a2, a2_ci, a3, a3_ci (where the run has them), per
-        species T_<name>, T_<name>_ci, and for rough spheres theta = T_rot/T with theta_ci.
+        species T_<name>, T_<name>_ci, per pair of species a < b T_<a>/T_<b> with its _ci, and for rough
+        particles theta = T_rot/T with theta_ci: the ratios the simulator stores, with intervals from
+        the measured covariance of the two temperatures (granboltz.ratios; files of simulators that
+        did not store them: theta from the means, theta_ci NaN).
         Columns steady (bool) and time (the last observation time, NaN for steady rows).
 
         missing: "raise" (StudyError naming the points without a run) or "skip" (their rows keep
@@ -114,16 +117,15 @@ def observables(r):
         sp_source = sp.steady if steady else sp.observables
         if "temperature" in sp_source:
             row[f"T_{name}"], row[f"T_{name}_ci"] = _value(sp_source["temperature"], steady)
-    if "temperature_rotational" in source and "temperature" in source:
-        rot, tr = source["temperature_rotational"], source["temperature"]
-        if steady and rot.sigma is not None and tr.sigma is not None:
-            from .rough import theta_interval
-
-            th, sigma = theta_interval(float(rot.mean), float(rot.sigma), float(tr.mean), float(tr.sigma))
-            z = float(tr.ci) / float(tr.sigma) if float(tr.sigma) > 0 else 0.0
-            row["theta"], row["theta_ci"] = th, z * sigma
-        else:  # the same conservative propagation with the half-widths themselves
-            T_rot, c_rot = _value(rot, steady)
-            T_tr, c_tr = _value(tr, steady)
-            row["theta"], row["theta_ci"] = T_rot / T_tr, T_rot / T_tr * (c_rot / T_rot + c_tr / T_tr)
+    names = list(r.species or {})
+    for i, a in enumerate(names):  # T_a/T_b of a mixture, stored with its interval (granboltz.ratios)
+        for b in names[i + 1:]:
+            if f"temperature_ratio/{a}_over_{b}" in source:
+                row[f"T_{a}/T_{b}"], row[f"T_{a}/T_{b}_ci"] = _value(source[f"temperature_ratio/{a}_over_{b}"], steady)
+    if "theta" in source:  # rough particles: T_rot/T with the simulator's interval (granboltz.ratios)
+        row["theta"], row["theta_ci"] = _value(source["theta"], steady)
+    elif "temperature_rotational" in source and "temperature" in source:
+        # a file of a simulator that did not store theta: the ratio of the means, no honest interval
+        row["theta"] = _value(source["temperature_rotational"], steady)[0] / _value(source["temperature"], steady)[0]
+        row["theta_ci"] = float("nan")
     return row

@@ -21,6 +21,8 @@ from math import pi, sqrt
 
 import numpy as np
 
+from .dimension import check_dimension
+
 # GRW05 §5.3: C_lambda = 1/(4 pi), gamma = 16, beta = 30, alpha = 1/10 (Examples 7-9 differ in lambda)
 EXAMPLES = {
     7: {"lambda": 0.0, "beta": 30.0, "gamma": 16.0, "pi_c": 0.25, "alpha": 0.1},
@@ -29,23 +31,27 @@ EXAMPLES = {
 }
 
 
-def tail_exponent(lam):
-    """Leading-order tail exponent b = 1 + lambda/2 (GRW05 eqs. 20-21)."""
+def tail_exponent(lam, d=3):
+    """Leading-order tail exponent b = 1 + lambda/2 (GRW05 eqs. 20-21), the same in d = 2."""
+    check_dimension(d, (2, 3), "tail_exponent")
     return 1.0 + lam / 2.0
 
 
-def fast_particle_rate(gamma, pi_c):
-    """nu_lambda = 4 pi C_lambda gamma (density 1), given gamma and pi*C_lambda."""
-    return 4.0 * gamma * pi_c
+def fast_particle_rate(gamma, pi_c, d=3):
+    """nu_lambda = |S^(d-1)| C_lambda gamma (density 1), given gamma and pi*C_lambda: 4 pi C gamma in
+    d = 3, 2 pi C gamma in d = 2 (the loss rate of a fast particle, whatever the geometry)."""
+    d = check_dimension(d, (2, 3), "fast_particle_rate")
+    return (4.0 if d == 3 else 2.0) * gamma * pi_c
 
 
-def tail_amplitude(nu, beta, lam):
-    """Leading-order tail amplitude a = sqrt(nu_lambda / beta) / b, b = 1 + lambda/2."""
-    return sqrt(nu / beta) / tail_exponent(lam)
+def tail_amplitude(nu, beta, lam, d=3):
+    """Leading-order tail amplitude a = sqrt(nu_lambda / beta) / b, b = 1 + lambda/2 (any d, given
+    the nu_lambda of that d: fast_particle_rate)."""
+    return sqrt(nu / beta) / tail_exponent(lam, d)
 
 
 def example_tail(example):
-    """{'b', 'a', 'nu'} of GRW05 Example 7, 8 or 9 (leading order)."""
+    """{'b', 'a', 'nu'} of GRW05 Example 7, 8 or 9 (leading order; d = 3, the papers')."""
     e = EXAMPLES[example]
     nu = fast_particle_rate(e["gamma"], e["pi_c"])
     return {"b": tail_exponent(e["lambda"]), "a": tail_amplitude(nu, e["beta"], e["lambda"]), "nu": nu}
@@ -56,22 +62,25 @@ def _ratios(moments):
     return np.array([float(m[p + 1] / m[p]) for p in range(len(m) - 1)])
 
 
-def amplitude_from_moments(moments, chi=0.0):
-    """Estimates a_p = sqrt((2p+3+chi)(2p+4+chi) M_2p / M_{2p+2}), p = 0..len-2, of the amplitude of
-    an exponential tail r^chi e^{-a r} (3-D), from the moments [M_0, M_2, ...]."""
+def amplitude_from_moments(moments, chi=0.0, d=3):
+    """Estimates a_p = sqrt((2p+d+chi)(2p+d+1+chi) M_2p / M_{2p+2}), p = 0..len-2, of the amplitude of
+    an exponential tail r^chi e^{-a r} in d dimensions (M_2p ~ Gamma(2p+d+chi)/a^(2p+d+chi)), from the
+    moments [M_0, M_2, ...]."""
+    d = check_dimension(d, (2, 3), "amplitude_from_moments")
     p = np.arange(len(moments) - 1)
-    return np.sqrt((2 * p + 3 + chi) * (2 * p + 4 + chi) / _ratios(moments))
+    return np.sqrt((2 * p + d + chi) * (2 * p + d + 1 + chi) / _ratios(moments))
 
 
-def amplitude_and_chi_from_moments(moments):
+def amplitude_and_chi_from_moments(moments, d=3):
     """(a_p, chi_p), p = 0..len-3: a and chi of r^chi e^{-a r} solved exactly from two successive
     ratios R_p = M_{2p+2}/M_2p, R_{p+1}: with x = 2p+3+chi, R_{p+1}/R_p = (x+2)(x+3)/(x(x+1)),
-    i.e. (rho - 1) x^2 + (rho - 5) x - 6 = 0, and a^2 = x(x+1)/R_p."""
+    i.e. (rho - 1) x^2 + (rho - 5) x - 6 = 0, and a^2 = x(x+1)/R_p; in d dimensions x = 2p+d+chi."""
+    d = check_dimension(d, (2, 3), "amplitude_and_chi_from_moments")
     R = _ratios(moments)
     rho = R[1:] / R[:-1]
     x = (5 - rho + np.sqrt((rho - 5) ** 2 + 24 * (rho - 1))) / (2 * (rho - 1))
     p = np.arange(len(R) - 1)
-    return np.sqrt(x * (x + 1) / R[:-1]), x - 2 * p - 3
+    return np.sqrt(x * (x + 1) / R[:-1]), x - 2 * p - d
 
 
 def local_eq38_slope(a, b, offset, r):
@@ -106,13 +115,13 @@ def offset_for_slope(b_eff, a, b, radius, shells, k0=1, window=(4.25, 4.6), chi=
     return brentq(lambda c: eq38_slope(a, b, c, radius, shells, k0, window, chi) - b_eff, lo, hi, xtol=1e-12)
 
 
-def importance_split(lam, beta, gamma, C, radius, r_s, power=None):
+def importance_split(lam, beta, gamma, C, radius, r_s, power=None, d=3):
     """dsmc.weights.split for a heated steady tail (docs/config.md): the importance function
     exp(-a r^b) of the leading-order tail, splitting from r_s out to the histogram radius R =
     `radius`, sweeps whose kicks move a particle by half an e-fold of it at R, h = 1/(8 beta s^2),
     s = a b R^(b-1).  power: exp(-a' r^power) instead, a' = a R^b / R^power (the same decay at R,
-    another shape; the importance check), with the same h."""
-    a, b = tail_amplitude(fast_particle_rate(gamma, pi * C), beta, lam), tail_exponent(lam)
+    another shape; the importance check), with the same h.  d: the nu_lambda of fast_particle_rate."""
+    a, b = tail_amplitude(fast_particle_rate(gamma, pi * C, d), beta, lam, d), tail_exponent(lam, d)
     slope = a * b * radius ** (b - 1)
     rate, shape = (a, b) if power is None else (a * radius**b / radius ** float(power), float(power))
     return {"radius": float(r_s), "rate": rate, "power": shape, "interval": 1.0 / (8.0 * beta * slope**2),

@@ -11,18 +11,31 @@ import math
 import numpy as np
 from scipy import integrate, special, stats
 
+from .dimension import check_dimension, check_geometry, dsmc_geometry
+
 LAMBDA_P = 3.2  # confidence half-width factor of GRW05 §5.1 (p = 0.999); the simulator's ci
 
 
 # ----------------------------------------------------------------------------- GRW05 / RW05
-def analytic_temperature(t, T0, alpha, beta, gamma, C0):
+def maxwell_rate(alpha, gamma, C0, d=3, geometry=None):
+    """k of dT/dt = 2 beta - k T for Maxwell molecules (lambda = 0) [exact]: gamma pi C0 (1 -
+    alpha^2) in d = 3 (GRW05 eq. 16); in d = 2 (2 pi/3) gamma C0 (1 - alpha^2) for disk impacts
+    and (pi/2) gamma C0 (1 - alpha^2) for the uniform law (granboltz.sonine.cooling_rate)."""
+    d = check_dimension(d, (2, 3), "maxwell_rate")
+    geometry = check_geometry(d, geometry, "maxwell_rate", ("impact", "uniform"))
+    if d == 3:
+        return gamma * math.pi * C0 * (1.0 - alpha**2)
+    return gamma * math.pi * (2 / 3 if geometry == "impact" else 1 / 2) * C0 * (1.0 - alpha**2)
+
+
+def analytic_temperature(t, T0, alpha, beta, gamma, C0, d=3, geometry=None):
     """Temperature of the heated Maxwell-pseudomolecule gas, GRW05 eqs. (16), (17).
 
-    T(t) = T0 e^{-k t} + T_inf (1 - e^{-k t}), k = gamma pi C0 (1 - alpha^2), T_inf = 2 beta / k;
-    for alpha = 1 (k = 0) the limit T0 + 2 beta t.
+    T(t) = T0 e^{-k t} + T_inf (1 - e^{-k t}), k = gamma pi C0 (1 - alpha^2) (d = 3; maxwell_rate
+    in d = 2), T_inf = 2 beta / k; for alpha = 1 (k = 0) the limit T0 + 2 beta t.
     """
     t = np.asarray(t, dtype=float)
-    k = gamma * math.pi * C0 * (1.0 - alpha**2)
+    k = maxwell_rate(alpha, gamma, C0, d, geometry)
     if k == 0.0:
         return T0 + 2.0 * beta * t
     decay = np.exp(-k * t)
@@ -38,23 +51,23 @@ def dsmc_physics(dsmc):
 
 
 def run_analytic_temperature(run):
-    """Eq. (16) with the parameters the run was made with (lambda must be 0: eq. 16 is exact
-    for Maxwell pseudomolecules only)."""
+    """Eq. (16) with the parameters the run was made with, in its d (lambda must be 0: eq. 16 is
+    exact for Maxwell pseudomolecules only)."""
     try:
-        return analytic_temperature(run.time, *dsmc_physics(run.dsmc))
+        return analytic_temperature(run.time, *dsmc_physics(run.dsmc), *dsmc_geometry(run.dsmc))
     except ValueError as err:
         raise ValueError(f"{run.path}: {err}") from None
 
 
-def scheme_temperature(scheme, t, dt, T0, alpha, beta, gamma, C0):
+def scheme_temperature(scheme, t, dt, T0, alpha, beta, gamma, C0, d=3, geometry=None):
     """Mean temperature of a scheme as n -> infinity at the times t (multiples of dt), Maxwell
     molecules: no-splitting is eq. (16); one Euler step (RW05 Alg. 1: collisions, then kicks)
     maps T to e^{-k dt} T + 2 beta dt, one Strang step to e^{-k dt/2}(e^{-k dt/2} T + 2 beta dt),
-    with k = gamma pi C0 (1 - alpha^2). Observations follow a whole step."""
+    with k = gamma pi C0 (1 - alpha^2) (maxwell_rate in d = 2). Observations follow a whole step."""
     t = np.atleast_1d(np.asarray(t, dtype=float))
     if scheme == "nosplit":
-        return analytic_temperature(t, T0, alpha, beta, gamma, C0)
-    k = gamma * math.pi * C0 * (1.0 - alpha**2)
+        return analytic_temperature(t, T0, alpha, beta, gamma, C0, d, geometry)
+    k = maxwell_rate(alpha, gamma, C0, d, geometry)
     a, b = math.exp(-k * dt), 2.0 * beta * dt
     if scheme == "strang":
         b *= math.exp(-k * dt / 2)
@@ -68,21 +81,23 @@ def scheme_temperature(scheme, t, dt, T0, alpha, beta, gamma, C0):
     return ak * T0 + (b * steps if a == 1.0 else b * (1.0 - ak) / (1.0 - a))
 
 
-def scheme_steady_temperature(scheme, dt, alpha, beta, gamma, C0):
+def scheme_steady_temperature(scheme, dt, alpha, beta, gamma, C0, d=3, geometry=None):
     """Stationary mean temperature of a scheme as n -> infinity (fixed point of the step maps of
     scheme_temperature; no-splitting: T_inf = 2 beta / k, GRW05 eq. 17, RW05 eq. 25)."""
-    k = gamma * math.pi * C0 * (1.0 - alpha**2)
+    k = maxwell_rate(alpha, gamma, C0, d, geometry)
     if scheme == "nosplit":
         return 2.0 * beta / k
     T = 2.0 * beta * dt / (1.0 - math.exp(-k * dt))
     return T * math.exp(-k * dt / 2) if scheme == "strang" else T
 
 
-def uncentred_expectation(T_mean, t, T0, beta, n):
-    """E of the uncentred estimator |v|^2/3 of an n-particle system whose mean temperature (n ->
-    infinity) is T_mean at time t: (1 - 1/n) T_mean + (T0 + 2 beta t)/n. The centred part has
-    the exact bias -T/n (Maxwell molecules); |V|^2/3 adds (T0 + 2 beta t)/n, since collisions
-    conserve momentum and the kicks make V a random walk of variance 2 beta t/n per component."""
+def uncentred_expectation(T_mean, t, T0, beta, n, d=3):
+    """E of the uncentred estimator |v|^2/d of an n-particle system whose mean temperature (n ->
+    infinity) is T_mean at time t: (1 - 1/n) T_mean + (T0 + 2 beta t)/n, the same in d = 2 and 3.
+    The centred part has the exact bias -T/n (Maxwell molecules); |V|^2/d adds (T0 + 2 beta t)/n,
+    since collisions conserve momentum and the kicks make V a random walk of variance 2 beta t/n
+    per component."""
+    check_dimension(d, (2, 3), "uncentred_expectation")
     return (1.0 - 1.0 / n) * np.asarray(T_mean) + (T0 + 2.0 * beta * np.asarray(t)) / n
 
 
@@ -90,9 +105,10 @@ def expected_error(run):
     """max_m |E T_m - T(t_m)| / T(t_m): the relative error of the uncentred estimator the run's
     scheme would have with N -> infinity (the systematic part of E_max), and the same at t_end."""
     T0, alpha, beta, gamma, C0 = dsmc_physics(run.dsmc)
+    d, geometry = dsmc_geometry(run.dsmc)
     exact = run_analytic_temperature(run)
-    mean = scheme_temperature(run.scheme, run.time, run.dt, T0, alpha, beta, gamma, C0)
-    err = np.abs(uncentred_expectation(mean, run.time, T0, beta, run.n) - exact) / exact
+    mean = scheme_temperature(run.scheme, run.time, run.dt, T0, alpha, beta, gamma, C0, d, geometry)
+    err = np.abs(uncentred_expectation(mean, run.time, T0, beta, run.n, d) - exact) / exact
     return float(err.max()), float(err[-1])
 
 

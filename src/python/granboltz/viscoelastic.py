@@ -1,4 +1,5 @@
-"""Free cooling of viscoelastic hard spheres (Beyond the papers): the restitution law of the
+"""Free cooling of viscoelastic hard spheres, d = 3 (Beyond the papers; the theory functions take d
+and raise ValueError for another, granboltz.dimension): the restitution law of the
 simulator's `dsmc.restitution: {law: viscoelastic, delta: δ}`, the cooling law T(t) ~ t^(-5/3)
 (Brilliantov & Pöschel), and the table rows and verdict of the report item.
 
@@ -23,6 +24,7 @@ import math
 import numpy as np
 
 from .beyond import Z
+from .dimension import check_dimension
 from .sonine import cooling_rate
 
 C1 = math.gamma(0.6) * math.sqrt(math.pi) / (2**0.2 * 5**0.4 * math.gamma(2.1))  # 1.1534489
@@ -54,12 +56,14 @@ def restitution(x):
     return np.where(x >= X_HOLD, EPS_HOLD, 1 - x * (C1 - C2 * x))
 
 
-def loss_fraction(T, delta):
+def loss_fraction(T, delta, d=3):
     """Φ(T) = ⟨|u| g_n² (1 − ε²)⟩/⟨|u| g_n²⟩ for a Maxwellian at temperature T (the factor that replaces
     1 − α² in the cooling rate): the series in closed form, plus the correction where x ≥ X_HOLD (incomplete
-    gamma functions, Gauss-Legendre in z; nil unless δ (g_n)^(1/5) reaches 0.72 in the thermal range)."""
+    gamma functions, Gauss-Legendre in z; nil unless δ (g_n)^(1/5) reaches 0.72 in the thermal range).
+    d = 3 only (the pair weight |u| g_n² of spheres)."""
     from scipy.special import gammaincc
 
+    check_dimension(d, (3,), "viscoelastic.loss_fraction")
     if delta == 0:
         return 0.0
     scale = [(delta * T**0.1) ** k for k in range(5)]  # x^k = scale[k] (4 s z)^(k/10)
@@ -76,27 +80,30 @@ def loss_fraction(T, delta):
     return float(phi + tail)
 
 
-def cooling_rate_visco(T, delta, gamma, C, n=None):
-    """ζ(T) of the Maxwellian moment equation dT/dt = −ζ T: the hard-sphere rate with 1 − α² → Φ(T)."""
-    return float(cooling_rate(T, 0.0, gamma, C, 1, n=n)) * loss_fraction(T, delta)
+def cooling_rate_visco(T, delta, gamma, C, n=None, d=3):
+    """ζ(T) of the Maxwellian moment equation dT/dt = −ζ T: the hard-sphere rate with 1 − α² → Φ(T) (d = 3)."""
+    return float(cooling_rate(T, 0.0, gamma, C, 1, n=n, d=d)) * loss_fraction(T, delta, d)
 
 
-def tau0(delta, T0, gamma, C, n=None):
-    """τ0 = 1/ζ(T0) to leading order in δ (ζ = (16/3)√π γC √T0 A1 δ T0^(1/10)); ∞ for δ = 0."""
+def tau0(delta, T0, gamma, C, n=None, d=3):
+    """τ0 = 1/ζ(T0) to leading order in δ (ζ = (16/3)√π γC √T0 A1 δ T0^(1/10)); ∞ for δ = 0 (d = 3)."""
+    check_dimension(d, (3,), "viscoelastic.tau0")
     zeta0 = float(cooling_rate(T0, 0.0, gamma, C, 1, n=n)) * A1 * delta * T0**0.1
     return math.inf if zeta0 == 0 else 1 / zeta0
 
 
-def asymptotic_temperature(t, delta, T0, gamma, C, n=None):
-    """T0 [1 + (3/5) t/τ0]^(−5/3), the leading order in δ [approx; exponent exact as δ T^(1/10) → 0]."""
-    return T0 * (1 + 0.6 * np.asarray(t, dtype=float) / tau0(delta, T0, gamma, C, n)) ** (-5 / 3)
+def asymptotic_temperature(t, delta, T0, gamma, C, n=None, d=3):
+    """T0 [1 + (3/5) t/τ0]^(−5/3), the leading order in δ [approx; exponent exact as δ T^(1/10) → 0] (d = 3)."""
+    return T0 * (1 + 0.6 * np.asarray(t, dtype=float) / tau0(delta, T0, gamma, C, n, d)) ** (-5 / 3)
 
 
-def free_cooling_temperature(t, delta, T0, gamma, C, n=None):
+def free_cooling_temperature(t, delta, T0, gamma, C, n=None, d=3):
     """T(t) of the Maxwellian moment equation with the full law (DOP853 in ln T, relative tolerance 1e-11),
-    at the times t (≥ 0) [approx: with a steady a2, the true T is about this T times (1 + KAPPA a2)^(−5/3) late]."""
+    at the times t (≥ 0) [approx: with a steady a2, the true T is about this T times (1 + KAPPA a2)^(−5/3) late]
+    (d = 3)."""
     from scipy.integrate import solve_ivp
 
+    check_dimension(d, (3,), "viscoelastic.free_cooling_temperature")
     t = np.asarray(t, dtype=float)
     if delta == 0 or t.max() == 0:
         return np.full(t.shape, float(T0))
@@ -105,13 +112,15 @@ def free_cooling_temperature(t, delta, T0, gamma, C, n=None):
     return np.exp(sol.sol(t)[0])
 
 
-def local_slope(t, T, delta, gamma, C, n=None):
-    """d ln T/d ln t = −t ζ(T) of the moment equation at (t, T(t))."""
-    return np.array([-ti * cooling_rate_visco(Ti, delta, gamma, C, n) for ti, Ti in zip(np.atleast_1d(t), np.atleast_1d(T))])
+def local_slope(t, T, delta, gamma, C, n=None, d=3):
+    """d ln T/d ln t = −t ζ(T) of the moment equation at (t, T(t)) (d = 3)."""
+    check_dimension(d, (3,), "viscoelastic.local_slope")
+    return np.array([-ti * cooling_rate_visco(Ti, delta, gamma, C, n, d) for ti, Ti in zip(np.atleast_1d(t), np.atleast_1d(T))])
 
 
-def late_slope_expansion(t, T, delta, tau):
-    """First-order local slope −(5/3)[1 − 5τ0/(3t) + (B1/5) δ T^(1/10)] for t ≫ τ0 (module docstring)."""
+def late_slope_expansion(t, T, delta, tau, d=3):
+    """First-order local slope −(5/3)[1 − 5τ0/(3t) + (B1/5) δ T^(1/10)] for t ≫ τ0 (module docstring; d = 3)."""
+    check_dimension(d, (3,), "viscoelastic.late_slope_expansion")
     t, T = np.asarray(t, dtype=float), np.asarray(T, dtype=float)
     return -5 / 3 * (1 - 5 * tau / (3 * t) + B1 / 5 * delta * T**0.1)
 
@@ -140,11 +149,12 @@ def viscoelastic_rows(runs, rows, late_from):
     for run in sorted(runs, key=run_delta):
         d, delta = run.config["dsmc"], run_delta(run)
         n, T0, g, C = int(d["particles"]), float(d["initial"]["temperature"]), float(d["gamma"]), float(d["kernel"]["C"])
+        dim = int(d.get("dimension", 3))
         idx = log_spaced(len(run.time) - 1, rows)
         t, T, ci = run.time[idx], run.temperature.mean[idx], run.temperature.ci[idx]
         th = (np.full(t.shape, run.temperature.mean[0]) if delta == 0
-              else free_cooling_temperature(t, delta, T0 * (1 - 1 / n), g, C, n))
-        tau = tau0(delta, T0, g, C, n)
+              else free_cooling_temperature(t, delta, T0 * (1 - 1 / n), g, C, n, dim))
+        tau = tau0(delta, T0, g, C, n, dim)
         for k in range(len(idx)):
             row = {"delta": delta, "n": n, "N": int(run.config["ensembles"]), "t": float(t[k]),
                    "t_over_tau0": float(t[k] / tau), "T": float(T[k]), "ci": float(ci[k]), "T_theory": float(th[k]),

@@ -230,10 +230,11 @@ def compare_beyond_mixture(name, ours, published=None, **_):
             "(reference/beyond.md §4, whose table `granboltz.mixtures` reproduces to four decimals); it is known to "
             "be good at α ≥ 0.8 and to fail for heavy species at strong dissipation, so the differences are "
             "measurements, not failures. T1, T2: the steady averages of the species temperatures under the Gaussian "
-            "thermostat (T = x1 T1 + x2 T2 held). The ratio's interval is the delta method with the correlation of "
-            "the two estimates recovered from the mixture's steady temperature of the same samples (Var T = "
-            "x1²Var T1 + x2²Var T2 + 2x1x2 Cov); it is near −1 here, where ignoring it would make the interval too "
-            "narrow.")
+            "thermostat (T = x1 T1 + x2 T2 held). T1/T2 and its interval are the simulator's stored ones "
+            "(`/steady/temperature_ratio/heavy_over_light`): the delta method with the measured covariance of T1 and "
+            "T2 over the ensembles' time averages (earlier reports recovered the same correlation from the mixture's "
+            "steady temperature, Var T = x1²Var T1 + x2²Var T2 + 2x1x2 Cov, shown as corr(T1, T2); it is near −1 here, "
+            "where ignoring it would make the interval too narrow).")
     return [("table", header, body), ("ul", [text + ".", note])], Verdict("approximation", short)
 
 
@@ -251,9 +252,11 @@ def compare_beyond_rough(name, ours, published=None, **_):
             "reference/beyond.md §5, whose θ values `granboltz.rough` reproduces to four decimals) is an "
             "approximation: simulations are known to put the HCS θ 4–5 % below it at α = 0.8–0.9 and white noise "
             "within 1 %; a larger gap in the table is a measurement that disagrees with that account, not a failure "
-            "of the simulation. The interval of θ takes the "
-            "correlation of the two steady temperatures as −1, the largest the delta method allows: exact under "
-            "the Gaussian thermostat (it holds T_tr + T_rot), conservative under white noise.")
+            "of the simulation. θ and its interval are the simulator's stored ones (`/steady/theta`): the delta "
+            "method with the measured covariance of T_rot and T_tr over the ensembles' time averages. Earlier "
+            "reports took that correlation as −1: exact under the Gaussian thermostat (it holds T_tr + T_rot; the "
+            "HCS rows' intervals are unchanged), but 2.2–2.4 times too wide under white noise, whose rows now have "
+            "the narrower, honest interval (so more of their differences from the approximation exceed it).")
     return [("table", header, body), ("ul", [text + ".", note])], Verdict("approximation", short)
 
 
