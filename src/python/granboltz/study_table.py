@@ -4,64 +4,116 @@ averages with their intervals (or the last row of its time series).
 
     study = Study("studies/scan")
     study.points        # [(hash, {grid key: value})] of the current grid (index.csv)
-    study.table()       # DataFrame; missing runs raise StudyError (table(missing="skip") marks them)
+    study.table()       # DataFrame; runs missing or not sound raise StudyError (table(missing="skip") marks them)
 """
 
 import csv
 import pathlib
 
-import yaml
+from .study import (MAX_BYTES, StudyError, _HASH, _check_values, _get, _lstat, _one_line, _read_text,
+                    identity_problem, load_study, load_yaml, not_regular, point_hash, study_folder)
 
-from .study import StudyError, _get, load_study, study_folder
+_MAX_INDEX_BYTES = 64 * MAX_BYTES  # an index of MAX_POINTS points with long values fits
 
 
 class Study:
     """A study folder (studies/<study>/) as run() wrote it. `path`: the folder, or the study file
     (its folder is studies/<study> under `into`, default the current directory).
 
-        study.points   [(hash, {grid key: value})] of the current grid, in index order
-        study.keys     the grid keys
+        study.points     [(hash, {grid key: value})] of the current grid, in index order
+        study.keys       the grid keys
         study.run_path(hash), study.config(hash)
-        study.table()  pandas DataFrame, one row per point
+        study.missing()  the points without a run file
+        study.problems() {hash: what is wrong} for the points without a sound run of their own
+        study.table()    pandas DataFrame, one row per point
+
+    A run is sound when it is a regular file (a link is not followed) that read_run reads and
+    whose stored config holds every value of its point's config (granboltz.study.identity_problem).
     """
 
     def __init__(self, path, into=None):
         path = pathlib.Path(path)
-        if path.is_file():
-            path = study_folder(load_study(path), into)
+        st = _lstat(path)
+        if st is not None and not path.is_dir():
+            path = study_folder(load_study(path, max_points=None), into)
         self.folder = path.absolute()
         index = self.folder / "index.csv"
+        if _lstat(index) is None:
+            raise StudyError(f"{self.folder}: not a study folder (no index.csv; run `python -m granboltz.study run` first)")
+        text = _read_text(index, "study index", follow=False, limit=_MAX_INDEX_BYTES)
         try:
-            with open(index, newline="") as f:
-                rows = list(csv.reader(f))
-        except OSError:
-            raise StudyError(f"{self.folder}: not a study folder (no index.csv; run `python -m granboltz.study run` first)") from None
+            rows = list(csv.reader(text.splitlines()))
+        except csv.Error as e:
+            raise StudyError(f"{index}: not a study index ({_one_line(e, 100)})") from None
         if not rows or not rows[0] or rows[0][0] != "hash":
             raise StudyError(f"{index}: not a study index (its first column must be hash)")
         self.name = self.folder.name
         self.keys = rows[0][1:]
         self.points = []
-        for row in rows[1:]:
-            h, config = row[0], self.config(row[0])
-            self.points.append((h, {k: _get(config, k) for k in self.keys}))
+        seen = set()
+        for line, row in enumerate(rows[1:], start=2):
+            h = row[0] if row else ""
+            if len(row) != len(rows[0]) or not _HASH.fullmatch(h) or h in seen:
+                raise StudyError(f"{index}: line {line} is not a point of this index "
+                                 f"({_one_line(','.join(row), 60)}): run the study again to rewrite it")
+            seen.add(h)
+            config = self.config(h)
+            try:
+                values = {k: _get(config, k) for k in self.keys}
+            except (KeyError, TypeError):
+                raise StudyError(f"{self.folder / 'points' / (h + '.yaml')}: has no value at a grid key of "
+                                 f"{index} ({_one_line(', '.join(self.keys), 80)})") from None
+            self.points.append((h, values))
 
     def __repr__(self):
-        have = sum(self.run_path(h).is_file() for h, _ in self.points)
+        have = sum(not_regular(self.run_path(h)) is None for h, _ in self.points)
         return f"Study({self.name!r}: {len(self.points)} points over {', '.join(self.keys)}; {have} runs)"
 
     def config(self, h):
+        """The config of the point `h` (its point file, checked to be that point's)."""
+        if not isinstance(h, str) or not _HASH.fullmatch(h):
+            raise StudyError(f"{self.folder}: {h!r} is not a point hash (12 hex digits)")
         path = self.folder / "points" / f"{h}.yaml"
-        try:
-            return yaml.safe_load(path.read_text())
-        except OSError:
-            raise StudyError(f"{path}: point file missing") from None
+        if _lstat(path) is None:
+            raise StudyError(f"{path}: point file missing")
+        config = load_yaml(_read_text(path, "point file", follow=False), path)
+        if not isinstance(config, dict):
+            raise StudyError(f"{path}: the point file is not a config mapping")
+        _check_values(config, "the point", path, [10 ** 5])
+        if point_hash(config) != h:
+            raise StudyError(f"{path}: holds another config than the point {h} (it hashes to "
+                             f"{point_hash(config)}): run the study again to rewrite it")
+        return config
 
     def run_path(self, h):
         return self.folder / "runs" / f"{h}.h5"
 
     def missing(self):
-        """The hashes of the points without a run."""
-        return [h for h, _ in self.points if not self.run_path(h).is_file()]
+        """The hashes of the points without a run file (problems() also checks the files)."""
+        return [h for h, _ in self.points if _lstat(self.run_path(h)) is None]
+
+    def _read(self, h):
+        """(Run, None) for a sound run of the point `h`, else (None, what is wrong)."""
+        from .io import RunReadError
+        from .run import read_run
+        from .study import _brief
+
+        path = self.run_path(h)
+        problem = not_regular(path)
+        if problem:
+            return None, problem
+        try:
+            r = read_run(path)
+        except (RunReadError, OSError) as e:
+            return None, f"damaged: {_brief(e, path)}"
+        problem = identity_problem(self.config(h), r.config, r.shard)
+        return (None, problem) if problem else (r, None)
+
+    def problems(self):
+        """{hash: what is wrong} of the points without a sound run: "missing", what is there
+        instead of a regular file, "damaged: ..." (read_run's reason) or "the run of another
+        point ..." (its stored config differs from the point's)."""
+        return {h: p for h, _ in self.points for _, p in [self._read(h)] if p}
 
     def table(self, missing="raise"):
         """One row per point: the grid keys, hash, and the run's observables: its steady averages
@@ -70,26 +122,31 @@ class Study:
         species T_<name>, T_<name>_ci, and for rough spheres theta = T_rot/T with theta_ci.
         Columns steady (bool) and time (the last observation time, NaN for steady rows).
 
-        missing: "raise" (StudyError naming the points without a run) or "skip" (their rows keep
-        only grid keys and hash, with missing = True; the column missing is there only then)."""
-        import pandas as pd
-
-        from .run import read_run
-
-        absent = self.missing()
-        if absent and missing == "raise":
-            raise StudyError(f"{self.name}: {len(absent)} of {len(self.points)} points have no run "
-                             f"({', '.join(absent[:4])}{', ...' if len(absent) > 4 else ''}): run the study first")
+        missing: "raise" (StudyError naming the points without a sound run: missing, damaged,
+        of another point, or not a regular file) or "skip" (their rows keep only grid keys and
+        hash, with missing = True; the column missing is there only then)."""
         if missing not in ("raise", "skip"):
             raise ValueError(f"missing must be 'raise' or 'skip', not {missing!r}")
+        import pandas as pd
+
+        runs, problems = {}, {}
+        for h, _ in self.points:
+            runs[h], problem = self._read(h)
+            if problem:
+                problems[h] = problem
+        if problems and missing == "raise":
+            named = "; ".join(f"{h} {_one_line(p, 70)}" for h, p in list(problems.items())[:3])
+            more = f"; and {len(problems) - 3} more" if len(problems) > 3 else ""
+            raise StudyError(f"{self.name}: {len(problems)} of {len(self.points)} points have no sound run "
+                             f"({named}{more}): run the study (python -m granboltz.study run) to make them")
         rows = []
         for h, values in self.points:
             row = dict(values, hash=h)
-            if h in absent:
+            if h in problems:
                 row["missing"] = True
             else:
-                row.update(observables(read_run(self.run_path(h))))
-                if absent:
+                row.update(observables(runs[h]))
+                if problems:
                     row["missing"] = False
             rows.append(row)
         return pd.DataFrame(rows)
