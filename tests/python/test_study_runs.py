@@ -20,20 +20,38 @@ from granboltz import study as gs
 from test_study import BASE, BINARY, cli, need_binary, write_study
 
 
+def cli_home(cwd, home, *args):
+    """python -m granboltz.study ARGS from `cwd` with HOME (and its caches) at `home`."""
+    env = dict(os.environ, GRANBOLTZ_BIN=BINARY, HOME=str(home),
+               PYTHONPATH=os.pathsep.join([str(ROOT / "src" / "python"), os.environ.get("PYTHONPATH", "")]))
+    env.pop("XDG_CACHE_HOME", None)
+    return subprocess.run([sys.executable, "-m", "granboltz.study", *args], cwd=cwd, env=env, capture_output=True,
+                          text=True)
+
+
 @pytest.fixture(scope="module")
 def sound(tmp_path_factory):
-    """A study of four points run once: (its folder, its table)."""
+    """A study of four points run once (HOME an empty folder of its own): (its folder, its table)."""
     need_binary()
     cwd = tmp_path_factory.mktemp("sound")
     write_study(cwd / "tiny.yaml")
-    out = cli(cwd, "run", "tiny.yaml", "--cores", "2")
+    home = tmp_path_factory.mktemp("home")
+    out = cli_home(cwd, home, "run", "tiny.yaml", "--cores", "2")
     assert out.returncode == 0, out.stdout + out.stderr
     folder = cwd / "studies" / "tiny"
-    return folder, gs.Study(folder).table()
+    return folder, gs.Study(folder).table(), home
+
+
+def test_nothing_is_written_outside_the_study_folder_not_even_in_home(sound):
+    """Snakemake keeps a copy of the Snakefile in ~/.cache/snakemake unless told otherwise."""
+    folder, _, home = sound
+    assert not list(home.iterdir()), "written in HOME: " + ", ".join(str(p) for p in home.rglob("*"))
+    assert sorted(p.name for p in folder.parent.parent.iterdir()) == ["studies", "tiny.yaml"]
+    assert (folder / ".snakemake" / "cache").is_dir()
 
 
 def copy_of(sound, tmp_path):
-    folder, table = sound
+    folder, table, _ = sound
     shutil.copytree(folder.parent.parent, tmp_path / "cwd", symlinks=True)
     return tmp_path / "cwd", tmp_path / "cwd" / "studies" / "tiny", table
 
@@ -126,7 +144,15 @@ def test_an_edited_point_file_or_index_is_named(tmp_path):
     assert len(gs.Study(folder).points) == 4
     index = folder / "index.csv"
     index.write_text(index.read_text() + "../../etc/passwd,1,2\n")
-    with pytest.raises(gs.StudyError, match="index.csv: line 6 is not a point of this index"):
+    with pytest.raises(gs.StudyError, match="index.csv: does not list the points of .*study.yaml \\(line 6 differs\\)"):
+        gs.Study(folder)
+    gs.prepare(tmp_path / "s.yaml", into=tmp_path)
+    lines = index.read_text().splitlines(keepends=True)
+    index.write_text(lines[0] + lines[1][:15])                   # cut short in its first row
+    with pytest.raises(gs.StudyError, match="line 2 differs"):
+        gs.Study(folder)
+    index.write_text("".join(lines[:2]))                         # cut at a line's end
+    with pytest.raises(gs.StudyError, match="line 3 differs"):
         gs.Study(folder)
 
 

@@ -234,11 +234,12 @@ def load_yaml(text, path):
 
 
 # ------------------------------------------------------------------------------ the study file
-def load_study(path, max_points=MAX_POINTS):
+def load_study(path, max_points=MAX_POINTS, follow=True):
     """The study file at `path` checked (check_study): {"study": name, "base": dict, "grid":
-    {key: [values]}}. max_points: the most points the grid may have (None: no limit)."""
+    {key: [values]}}. max_points: the most points the grid may have (None: no limit);
+    follow=False: a symbolic link is refused (a study folder's own study.yaml)."""
     path = pathlib.Path(path)
-    spec = load_yaml(_read_text(path, "study file"), path)
+    spec = load_yaml(_read_text(path, "study file", follow=follow), path)
     return check_study(spec, path, max_points=max_points)
 
 
@@ -680,6 +681,13 @@ def _python():
     return _PYTHON if os.access(_PYTHON, os.X_OK) else sys.executable
 
 
+def snakemake_environment(folder):
+    """The environment of Snakemake: its cache (a copy of the Snakefile it keeps in
+    ~/.cache/snakemake otherwise) in the study folder's .snakemake/, so that nothing outside the
+    study folder is written."""
+    return dict(os.environ, XDG_CACHE_HOME=str(folder / ".snakemake" / "cache"))
+
+
 def snakemake_command(folder, targets, binary, cores=None, profile=None, extra=()):
     """The Snakemake call that makes `targets` (paths relative to the study folder)."""
     cmd = [_python(), "-m", "snakemake",
@@ -740,7 +748,7 @@ def _unlock_stale(folder, binary, quiet):
         return
     cmd = [_python(), "-m", "snakemake", "--snakefile", str(SNAKEFILE), "--directory", str(folder),
            "--config", f"granboltz={binary}", "--unlock", "--cores", "1"]
-    out = subprocess.run(cmd, cwd=folder, capture_output=True, text=True)
+    out = subprocess.run(cmd, cwd=folder, capture_output=True, text=True, env=snakemake_environment(folder))
     if out.returncode != 0:
         raise StudyError(f"{folder}: cannot remove a stale Snakemake lock (snakemake --unlock exited "
                          f"{out.returncode}: {_one_line((out.stderr.strip().splitlines() or [''])[-1], 120)})")
@@ -748,22 +756,24 @@ def _unlock_stale(folder, binary, quiet):
         print(f"granboltz.study: {folder.name}: removed the lock of a Snakemake that no longer runs", flush=True)
 
 
-def _stop_with_parent():
-    """A preexec function for Snakemake: SIGTERM to it when the runner dies, even by SIGKILL
-    (Linux's PR_SET_PDEATHSIG), so that it starts no more points and ends; it exits at once if
-    the runner is gone already. None where there is no prctl."""
+def _snakemake_preexec():
+    """The preexec function of Snakemake: a process group of its own (its jobs join it), and
+    SIGTERM to it when the runner dies, even by SIGKILL (Linux's PR_SET_PDEATHSIG), so that it
+    starts no more points and ends; it exits at once if the runner is gone already."""
     try:
         import ctypes
 
         prctl = ctypes.CDLL(None, use_errno=True).prctl  # looked up here: nothing is imported after fork
     except (OSError, AttributeError):
-        return None
+        prctl = None
     parent = os.getpid()
 
     def preexec():
-        prctl(1, int(signal.SIGTERM))  # 1: PR_SET_PDEATHSIG
-        if os.getppid() != parent:
-            os._exit(1)
+        os.setpgid(0, 0)
+        if prctl is not None:
+            prctl(1, int(signal.SIGTERM))  # 1: PR_SET_PDEATHSIG
+            if os.getppid() != parent:
+                os._exit(1)
     return preexec
 
 
@@ -794,8 +804,8 @@ def run_snakemake(cmd, folder, lock_fd=None, quiet=False):
             if signal.getsignal(sig) not in (signal.SIG_IGN, None):
                 handlers[sig] = signal.signal(sig, forward)
     try:
-        proc = subprocess.Popen(cmd, cwd=folder, process_group=0, pass_fds=() if lock_fd is None else (lock_fd,),
-                                preexec_fn=_stop_with_parent(),
+        proc = subprocess.Popen(cmd, cwd=folder, pass_fds=() if lock_fd is None else (lock_fd,),
+                                preexec_fn=_snakemake_preexec(), env=snakemake_environment(folder),
                                 stdout=subprocess.DEVNULL if quiet else None,
                                 stderr=subprocess.DEVNULL if quiet else None)
         group.append(proc.pid)

@@ -8,10 +8,11 @@ averages with their intervals (or the last row of its time series).
 """
 
 import csv
+import io
 import pathlib
 
-from .study import (MAX_BYTES, StudyError, _HASH, _check_values, _get, _lstat, _one_line, _read_text,
-                    identity_problem, load_study, load_yaml, not_regular, point_hash, study_folder)
+from .study import (MAX_BYTES, StudyError, _HASH, _cell, _check_values, _lstat, _one_line, _read_text, check_folder,
+                    expand, identity_problem, load_study, load_yaml, not_regular, point_hash, study_folder)
 
 _MAX_INDEX_BYTES = 64 * MAX_BYTES  # an index of MAX_POINTS points with long values fits
 
@@ -37,33 +38,29 @@ class Study:
         if st is not None and not path.is_dir():
             path = study_folder(load_study(path, max_points=None), into)
         self.folder = path.absolute()
+        check_folder(self.folder)
         index = self.folder / "index.csv"
         if _lstat(index) is None:
             raise StudyError(f"{self.folder}: not a study folder (no index.csv; run `python -m granboltz.study run` first)")
         text = _read_text(index, "study index", follow=False, limit=_MAX_INDEX_BYTES)
+        # The index must list the points of the study file as the folder holds it (study.yaml):
+        # an index cut short or edited would drop or mislabel points without a word.
+        spec = load_study(self.folder / "study.yaml", max_points=None, follow=False)
+        points = [(h, values) for h, values, _ in expand(spec)]
+        expected = [["hash", *spec["grid"]]] + [[h, *(_cell(values[k]) for k in spec["grid"])] for h, values in points]
         try:
-            rows = list(csv.reader(text.splitlines()))
+            rows = list(csv.reader(io.StringIO(text, newline="")))
         except csv.Error as e:
             raise StudyError(f"{index}: not a study index ({_one_line(e, 100)})") from None
-        if not rows or not rows[0] or rows[0][0] != "hash":
-            raise StudyError(f"{index}: not a study index (its first column must be hash)")
+        if rows != expected:
+            line = next((i for i, (a, b) in enumerate(zip(rows, expected), start=1) if a != b), min(len(rows), len(expected)) + 1)
+            raise StudyError(f"{index}: does not list the points of {self.folder / 'study.yaml'} (line {line} differs): "
+                             "run the study again to rewrite it")
         self.name = self.folder.name
-        self.keys = rows[0][1:]
-        self.points = []
-        seen = set()
-        for line, row in enumerate(rows[1:], start=2):
-            h = row[0] if row else ""
-            if len(row) != len(rows[0]) or not _HASH.fullmatch(h) or h in seen:
-                raise StudyError(f"{index}: line {line} is not a point of this index "
-                                 f"({_one_line(','.join(row), 60)}): run the study again to rewrite it")
-            seen.add(h)
-            config = self.config(h)
-            try:
-                values = {k: _get(config, k) for k in self.keys}
-            except (KeyError, TypeError):
-                raise StudyError(f"{self.folder / 'points' / (h + '.yaml')}: has no value at a grid key of "
-                                 f"{index} ({_one_line(', '.join(self.keys), 80)})") from None
-            self.points.append((h, values))
+        self.keys = list(spec["grid"])
+        self.points = points
+        for h, _ in points:
+            self.config(h)  # each point file holds its point
 
     def __repr__(self):
         have = sum(not_regular(self.run_path(h)) is None for h, _ in self.points)
