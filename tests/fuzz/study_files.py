@@ -68,6 +68,17 @@ ODD = [".nan", ".NaN", ".inf", "-.inf", "+.inf", "1.0e+309", "-1.0e+309", "1e309
        "[]", "{}", "[1, 2]", "{a: 1}", "[[[[1]]]]", "{lambda: 0, C: 1}", "!!binary aGVsbG8=", "!!set {a, b}",
        "!!omap [a: 1]", "!!python/object/apply:os.system ['true']", "!custom 1", "!!str 1", "!!float 1", "!!int 1",
        "*undefined", "&v 1", "<<", "? a"]
+# Sound values of some keys, odd ones included (huge seeds, tiny t_end, mappings as grid values):
+# a grid of these runs (a few tiny points), so that the run, the checks of its runs and the table
+# meet unusual values too.
+VALID = {"dsmc.alpha": ["0.5", "0.9", "1", "1.0", "1.0e-300", "0.1"],
+         "seed": ["0", "1", "18446744073709551615", "9007199254740993", "12345678901234567890"],
+         "ensembles": ["1", "2", "3"], "dsmc.particles": ["2", "3", "20", "31"],
+         "dsmc.kernel.lambda": ["0", "1", "2", "0.5"], "dsmc.kernel": ["{lambda: 0, C: 0.1}", "{lambda: 1, C: 0.05}"],
+         "dsmc.t_end": ["0.25", "0.5", "1.0e-9"], "dsmc.beta": ["0", "1", "0.5"], "dsmc.scheme": ["nosplit", "euler"],
+         "dsmc.observe_every": ["0.25", "0.5"], "threads": ["0", "1", "2"],
+         "dsmc.initial": ["{temperature: 2}", "{temperature: 0.5}"], "dsmc.steady_from": ["0.25"],
+         "dsmc.histogram": ["{shells: 4, radius: 3}"], "dsmc.steps": ["2", "3"]}
 NAMES = [NAME] * 12 + ["", "a b", "a/b", "..", ".", "-", "n" * 100, "n" * 101, "n" * 300, "é", "a\tb", "null", "1",
                        "[a]", "{a: 1}", "'fz'", "\"fz\"", "!!str fz", "fz\u202e", "CON", "-rf"]
 
@@ -107,8 +118,22 @@ def mutate_base(rng, base, notes):
     notes.append(f"base {op} {'.'.join(map(str, path))}")
 
 
+def valid_grid_lines(rng, notes):
+    """A grid of sound values (most of the time): one to three keys, at most four points."""
+    keys = rng.sample(sorted(VALID), rng.choice([1, 1, 2, 3]))
+    lines, count = [], 1
+    for key in keys:
+        size = 1 if count >= 2 else rng.choice([1, 2])
+        lines.append(f"  {key}: [{', '.join(rng.sample(VALID[key], min(size, len(VALID[key]))))}]")
+        count *= size
+    notes.append(f"sound grid {', '.join(keys)}")
+    return lines, count
+
+
 def grid_lines(rng, notes):
     """The grid as YAML lines and its number of points (None when the text is odd)."""
+    if rng.random() < 0.35:
+        return valid_grid_lines(rng, notes)
     n_keys = rng.choice([1, 1, 1, 2, 2, 3, 4, 6, 8])
     keys = rng.sample(KEYS, n_keys) if rng.random() < 0.5 else [rng.choice(KEYS[:10]) for _ in range(n_keys)]
     lines, count = [], 1
@@ -688,7 +713,16 @@ def run_case(fz, case):
             if table != template(binary).table:
                 return "a table other than the sound study's"
         if r["rc"] == 0 and case["kind"] == "file" and case["command"] == "run":
-            return runs_belong(d / "studies" / study_name(case))
+            folder = d / "studies" / study_name(case)
+            problem = runs_belong(folder)
+            if problem:
+                return problem
+            t = run_study(["table", "s.yaml", "--csv"], d, env)
+            if t["rc"] != 0:
+                return f"the table after a successful run fails: {(t['stderr'].strip().splitlines() or [''])[-1][:200]}"
+            rows = list(csv.reader(io.StringIO(t["stdout"])))
+            if len(rows) != len(list(csv.reader(io.StringIO((folder / "index.csv").read_text(), newline="")))):
+                return "the table after a successful run has another number of rows than the index"
         return None
     finally:
         if held is not None:
