@@ -20,8 +20,8 @@ saying so), no traceback; a refusal (2) is one line `granboltz.study: error: ...
 nothing in the case's folder. Nothing is written outside the study folder (the case's HOME and
 TMPDIR included; links planted in the study lead to files outside, which must stay as they
 were). A table that succeeds is the sound study's table, exactly (a folder case) or has a row
-per point (a file case); a run that succeeds leaves runs whose stored config holds their
-point's values, and (a folder case) a table exactly the sound study's, since a point run again
+per point (a file case); a run that succeeds leaves runs whose stored config is their point's
+as `granboltz validate` resolves it, and (a folder case) a table exactly the sound study's, since a point run again
 with its seed gives the same bits.
 """
 
@@ -626,16 +626,20 @@ def outcome_problem(case, r):
     return None
 
 
-def runs_belong(folder):
-    """None when every point of the index has a run whose stored config holds the point's
-    values (checked here with h5py and PyYAML, not with the package's own check)."""
+def runs_belong(folder, binary):
+    """None when every point of the index has a run whose stored config is its point's as
+    `granboltz validate` resolves it (checked here with the simulator's command line, h5py and
+    PyYAML, not with the package's own check): every stored value is the resolved one."""
     import h5py
     import yaml
 
-    rows = list(csv.reader(io.StringIO((folder / "index.csv").read_text())))
+    rows = list(csv.reader(io.StringIO((folder / "index.csv").read_text(), newline="")))
     for row in rows[1:]:
         h = row[0]
-        point = yaml.safe_load((folder / "points" / f"{h}.yaml").read_text())
+        v = subprocess.run([binary, "validate", str(folder / "points" / f"{h}.yaml")], capture_output=True, text=True)
+        if v.returncode != 0:
+            return f"point {h} of a successful run is refused by granboltz validate: {v.stderr.strip()[:150]}"
+        resolved = yaml.safe_load(v.stdout)
         run = folder / "runs" / f"{h}.h5"
         if run.is_symlink() or not run.is_file():
             return f"run {h} is not a regular file after a successful run"
@@ -643,14 +647,13 @@ def runs_belong(folder):
             raw = f.attrs["config"]
             stored = yaml.safe_load(raw.decode() if isinstance(raw, bytes) else raw)
 
-        def holds(a, b):
+        def within(a, b):  # every value of a is b's
             if isinstance(a, dict):
-                return isinstance(b, dict) and all(k in ("threads",) or (k in b and holds(v, b[k]))
-                                                   for k, v in a.items())
+                return isinstance(b, dict) and all(k in b and within(v, b[k]) for k, v in a.items())
             if isinstance(a, list):
-                return isinstance(b, list) and len(a) == len(b) and all(map(holds, a, b))
+                return isinstance(b, list) and len(a) == len(b) and all(map(within, a, b))
             return isinstance(a, bool) == isinstance(b, bool) and a == b
-        if not holds(point, stored):
+        if not within(stored, resolved):
             return f"run {h} after a successful run is not its point's"
     return None
 
@@ -703,7 +706,7 @@ def run_case(fz, case):
                 if held is not None:
                     os.close(held)
                     held = None
-                problem = runs_belong(d / "studies" / NAME)
+                problem = runs_belong(d / "studies" / NAME, binary)
                 if problem:
                     return problem
                 t = run_study(["table", "s.yaml", "--csv"], d, env)
@@ -714,7 +717,7 @@ def run_case(fz, case):
                 return "a table other than the sound study's"
         if r["rc"] == 0 and case["kind"] == "file" and case["command"] == "run":
             folder = d / "studies" / study_name(case)
-            problem = runs_belong(folder)
+            problem = runs_belong(folder, binary)
             if problem:
                 return problem
             t = run_study(["table", "s.yaml", "--csv"], d, env)

@@ -395,17 +395,33 @@ def _parser():
 def check_points(points, path="study"):
     """{hash: point file text} of expand()'s points, each config checked by the simulator's
     parser: StudyError naming the first point it refuses, with the simulator's message."""
+    return {h: text for h, (text, _) in _check_points(points, path).items()}
+
+
+def _check_points(points, path):
+    """check_points, with each point's run config: {hash: (point text, run_config)}."""
     parse = _parser()
-    texts = {}
+    checked = {}
     for h, values, config in points:
         text = point_text(config)
         try:
-            parse(text, f"point {h}")
+            checked[h] = (text, run_config(parse(text, f"point {h}")))
         except (ValueError, RuntimeError, TypeError) as e:
             message = " ".join(str(e).split())
             raise StudyError(f"{path}: point {h} ({_describe(values)}): {_one_line(message, 400)}") from None
-        texts[h] = text
-    return texts
+    return checked
+
+
+def run_config(normalized):
+    """The config a run of a point stores, from the point's config as the simulator's parser
+    prints it (every default explicit, keys its settings ignore left out): without threads,
+    shard and checkpoint, which a run does not store."""
+    config = yaml.safe_load(normalized)
+    if not isinstance(config, dict):
+        raise ValueError(f"the simulator's parser printed no config mapping ({_one_line(normalized, 60)})")
+    for key in _RUNTIME_KEYS:
+        config.pop(key, None)
+    return config
 
 
 # ------------------------------------------------------------------------------ the folder
@@ -509,14 +525,14 @@ def _plan(study_file, into, max_points):
     spec = load_study(study_file, max_points)
     folder = study_folder(spec, into)
     points = expand(spec)
-    texts = check_points(points, study_file)
+    checked = _check_points(points, study_file)
     check_folder(folder)
-    return spec, folder, points, texts
+    return spec, folder, points, checked
 
 
-def _write_folder(spec, folder, points, texts):
+def _write_folder(spec, folder, points, checked):
     for h, _, _ in points:
-        _write_if_changed(folder / "points" / f"{h}.yaml", texts[h], folder)
+        _write_if_changed(folder / "points" / f"{h}.yaml", checked[h][0], folder)
     out = io.StringIO()
     writer = csv.writer(out, lineterminator="\n")
     writer.writerow(["hash", *spec["grid"]])
@@ -529,9 +545,9 @@ def _write_folder(spec, folder, points, texts):
 def prepare(study_file, into=None, max_points=MAX_POINTS):
     """Expand the study file, check every point, and write its folder (study.yaml, points/,
     index.csv); returns (folder, points) with points as expand() gives them."""
-    spec, folder, points, texts = _plan(study_file, into, max_points)
+    spec, folder, points, checked = _plan(study_file, into, max_points)
     with _runner_lock(folder):
-        _write_folder(spec, folder, points, texts)
+        _write_folder(spec, folder, points, checked)
     return folder, points
 
 
@@ -571,10 +587,13 @@ def _shard(config):
     return None
 
 
-def identity_problem(config, stored, shard):
+def identity_problem(config, stored, shard, expected=None):
     """None when a run whose stored config is `stored` and whose shard is `shard` ((index,
-    count) or None) is the run of the point `config`, else what is wrong, briefly."""
-    where = run_difference(config, stored)
+    count) or None) is the run of the point `config`, else what is wrong, briefly. expected:
+    the point's run_config (the simulator's parser's resolution of it): every value the run
+    stores must be its value there (a run of an older simulator may lack keys added since);
+    None (no parser at hand): every value of the point's own config must be stored."""
+    where = run_difference(stored, expected) if expected is not None else run_difference(config, stored)
     if where:
         return f"the run of another point (its {_one_line(where, 60)} differs)"
     if shard != _shard(config):
@@ -591,9 +610,10 @@ def _file_shard(f):
     return (int(index), int(count)) if index.isdigit() and count.isdigit() and int(count) > 1 else None
 
 
-def stored_identity_problem(path, config):
+def stored_identity_problem(path, config, expected=None):
     """None when the output at `path` (a regular file that `granboltz verify` passed) is the run
-    of the point `config`, else a short reason: read its stored config and shard only."""
+    of the point `config` (expected: its run_config), else a short reason: read its stored
+    config and shard only."""
     from .io import RunReadError, open_run, read_config
 
     try:
@@ -602,7 +622,7 @@ def stored_identity_problem(path, config):
             shard = _file_shard(f)
     except (RunReadError, OSError, ValueError, KeyError) as e:
         return f"damaged: {_brief(e, path)}"
-    return identity_problem(config, stored, shard)
+    return identity_problem(config, stored, shard, expected)
 
 
 def _brief(error, path):
@@ -639,9 +659,9 @@ def verify_runs(folder, hashes, binary):
     return problems
 
 
-def check_runs(folder, points, binary):
+def check_runs(folder, points, binary, expected=None):
     """{hash: problem} of the points whose run is missing, not a regular file, damaged (granboltz
-    verify) or of another point (its stored config)."""
+    verify) or of another point (its stored config; expected: {hash: run_config})."""
     problems, present = {}, []
     for h, _, _ in points:
         problem = not_regular(folder / "runs" / f"{h}.h5")
@@ -654,7 +674,7 @@ def check_runs(folder, points, binary):
     configs = {h: config for h, _, config in points}
     for h in present:
         if h not in problems:
-            problem = stored_identity_problem(folder / "runs" / f"{h}.h5", configs[h])
+            problem = stored_identity_problem(folder / "runs" / f"{h}.h5", configs[h], (expected or {}).get(h))
             if problem:
                 problems[h] = problem
     return problems
@@ -841,14 +861,14 @@ def run(study_file, cores=None, profile=None, into=None, quiet=False, extra=(), 
 
     if max_points is not None and (isinstance(max_points, bool) or not isinstance(max_points, int) or max_points < 1):
         raise StudyError(f"max_points = {_show(max_points, 40)}: must be an integer >= 1 (or None: no limit)")
-    spec, folder, points, texts = _plan(study_file, into, max_points)
+    spec, folder, points, checked = _plan(study_file, into, max_points)
     binary = find_binary()
     say = (lambda msg: None) if quiet else (lambda msg: print(f"granboltz.study: {msg}", flush=True))
     with _runner_lock(folder) as lock_fd:
         if lock_fd is not None:
             _unlock_stale(folder, binary, quiet)
-        _write_folder(spec, folder, points, texts)
-        problems = check_runs(folder, points, binary)
+        _write_folder(spec, folder, points, checked)
+        problems = check_runs(folder, points, binary, {h: c for h, (_, c) in checked.items()})
         for h, problem in problems.items():
             for path in (folder / "runs" / f"{h}.h5", folder / "logs" / f"{h}.log"):
                 st = _lstat(path)

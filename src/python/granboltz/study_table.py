@@ -12,7 +12,8 @@ import io
 import pathlib
 
 from .study import (MAX_BYTES, StudyError, _HASH, _cell, _check_values, _lstat, _one_line, _read_text, check_folder,
-                    expand, identity_problem, load_study, load_yaml, not_regular, point_hash, study_folder)
+                    _parser, expand, identity_problem, load_study, load_yaml, not_regular, point_hash, point_text,
+                    run_config, study_folder)
 
 _MAX_INDEX_BYTES = 64 * MAX_BYTES  # an index of MAX_POINTS points with long values fits
 
@@ -29,7 +30,8 @@ class Study:
         study.table()    pandas DataFrame, one row per point
 
     A run is sound when it is a regular file (a link is not followed) that read_run reads and
-    whose stored config holds every value of its point's config (granboltz.study.identity_problem).
+    whose stored config is its point's config as the simulator resolves it
+    (granboltz.study.identity_problem).
     """
 
     def __init__(self, path, into=None):
@@ -103,8 +105,27 @@ class Study:
             r = read_run(path)
         except (RunReadError, OSError) as e:
             return None, f"damaged: {_brief(e, path)}"
-        problem = identity_problem(self.config(h), r.config, r.shard)
+        config = self.config(h)
+        expected = self._run_config(h, config)
+        if isinstance(expected, str):
+            return None, expected
+        problem = identity_problem(config, r.config, r.shard, expected)
         return (None, problem) if problem else (r, None)
+
+    def _run_config(self, h, config):
+        """The point's run_config by the simulator's parser (None where there is none: then
+        every value of the point's own config must be in its run), or why there is none."""
+        if not hasattr(self, "_parse"):
+            try:
+                self._parse = _parser()
+            except StudyError:
+                self._parse = None
+        if self._parse is None:
+            return None
+        try:
+            return run_config(self._parse(point_text(config), f"point {h}"))
+        except (ValueError, RuntimeError, TypeError) as e:
+            return f"its point is refused by the simulator ({_one_line(' '.join(str(e).split()), 80)})"
 
     def problems(self):
         """{hash: what is wrong} of the points without a sound run: "missing", what is there
