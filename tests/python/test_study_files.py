@@ -48,8 +48,10 @@ BAD = [
      "the key 'dsmc.alpha' is given twice"),
     ("NaN in a grid", study_text(grid={"dsmc.alpha": ["NANX"]}).replace("NANX", ".nan"),
      "grid.dsmc.alpha[0] = nan: a config value must be a finite number"),
-    ("inf in base", study_text().replace("t_end: 2", "t_end: .inf"), "base.dsmc.t_end = inf: a config value must be a finite number"),
-    ("a date", study_text().replace("seed: 5", "seed: 2001-12-14"), "base.seed = datetime.date(2001, 12, 14): a date is not a config value"),
+    ("inf in base", study_text().replace("t_end: 2", "t_end: .inf"),
+     "base.dsmc.t_end = inf: a config value must be a finite number"),
+    ("a date", study_text().replace("seed: 5", "seed: 2001-12-14"),
+     "base.seed = datetime.date(2001, 12, 14): a date is not a config value"),
     ("an integer of 5000 digits", study_text().replace("seed: 5", "seed: " + "9" * 5000), "not a usable YAML document"),
     ("an integer beyond 64 bits", study_text().replace("seed: 5", "seed: " + "9" * 30), "an integer beyond 64 bits"),
     ("a lone surrogate", study_text().replace("seed: 5", 'seed: "\\ud800"'), "not a valid Unicode string"),
@@ -151,3 +153,8 @@ def test_the_command_line_refuses_an_unknown_grid_key_without_running_anything(t
     one_line_refusal(out)
     assert "dsmc.bogus: unknown key" in out.stderr and "Snakemake" not in out.stderr
     assert sorted(p.name for p in tmp_path.iterdir()) == ["s.yaml"]
+
+
+def test_a_path_with_a_newline_is_named_on_one_line(tmp_path):
+    one_line_refusal(run_cli(tmp_path, "run", "a\nb.yaml"))
+    assert "a\\nb.yaml" in run_cli(tmp_path, "table", "a\nb.yaml").stderr

@@ -11,9 +11,11 @@ import csv
 import io
 import pathlib
 
-from .study import (MAX_BYTES, StudyError, _HASH, _cell, _check_values, _lstat, _one_line, _read_text, check_folder,
-                    _parser, expand, identity_problem, load_study, load_yaml, not_regular, point_hash, point_text,
-                    run_config, study_folder)
+from .study_folder import check_folder
+from .study_runs import identity_problem, not_regular
+from .study_spec import (_HASH, _cell, _check_values, _parser, expand, load_study, point_hash, point_text, run_config,
+                         study_folder)
+from .study_yaml import MAX_BYTES, StudyError, _lstat, _one_line, _read_text, load_yaml
 
 _MAX_INDEX_BYTES = 64 * MAX_BYTES  # an index of MAX_POINTS points with long values fits
 
@@ -55,7 +57,8 @@ class Study:
         except csv.Error as e:
             raise StudyError(f"{index}: not a study index ({_one_line(e, 100)})") from None
         if rows != expected:
-            line = next((i for i, (a, b) in enumerate(zip(rows, expected), start=1) if a != b), min(len(rows), len(expected)) + 1)
+            line = next((i for i, (a, b) in enumerate(zip(rows, expected), start=1) if a != b),
+                        min(len(rows), len(expected)) + 1)
             raise StudyError(f"{index}: does not list the points of {self.folder / 'study.yaml'} (line {line} differs): "
                              "run the study again to rewrite it")
         self.name = self.folder.name
@@ -95,7 +98,7 @@ class Study:
         """(Run, None) for a sound run of the point `h`, else (None, what is wrong)."""
         from .io import RunReadError
         from .run import read_run
-        from .study import _brief
+        from .study_runs import _brief
 
         path = self.run_path(h)
         problem = not_regular(path)
