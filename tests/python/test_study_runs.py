@@ -150,11 +150,10 @@ def test_an_edited_point_file_or_index_is_named(tmp_path):
     folder, points = gs.prepare(tmp_path / "s.yaml", into=tmp_path)
     h = points[0][0]
     point = folder / "points" / f"{h}.yaml"
-    point.write_text(point.read_text().replace("seed: 5", "seed: 6"))
-    with pytest.raises(gs.StudyError, match=f"holds another config than the point {h}"):
-        gs.Study(folder)
+    sound = point.read_text()
+    point.write_text(sound.replace("seed: 5", "seed: 6"))
     gs.prepare(tmp_path / "s.yaml", into=tmp_path)               # a run rewrites it
-    assert len(gs.Study(folder).points) == 4
+    assert point.read_text() == sound and len(gs.Study(folder).points) == 4
     index = folder / "index.csv"
     index.write_text(index.read_text() + "../../etc/passwd,1,2\n")
     with pytest.raises(gs.StudyError, match="index.csv: does not list the points of .*study.yaml \\(line 6 differs\\)"):

@@ -236,7 +236,7 @@ def run_config(normalized):
     """The config a run of a point stores, from the point's config as the simulator's parser
     prints it (every default explicit, keys its settings ignore left out): without threads,
     shard and checkpoint, which a run does not store."""
-    config = yaml.safe_load(normalized)
+    config = yaml.load(normalized, Loader=getattr(yaml, "CSafeLoader", yaml.SafeLoader))  # the simulator's own text
     if not isinstance(config, dict):
         raise ValueError(f"the simulator's parser printed no config mapping ({_one_line(normalized, 60)})")
     for key in _RUNTIME_KEYS:

@@ -7,15 +7,15 @@ averages with their intervals (or the last row of its time series).
     study.table()       # DataFrame; runs missing or not sound raise StudyError (table(missing="skip") marks them)
 """
 
+import copy
 import csv
 import io
 import pathlib
 
 from .study_folder import check_folder
 from .study_runs import identity_problem, not_regular
-from .study_spec import (_HASH, _cell, _check_values, _parser, expand, load_study, point_hash, point_text, run_config,
-                         study_folder)
-from .study_yaml import MAX_BYTES, StudyError, _lstat, _one_line, _read_text, load_yaml
+from .study_spec import _cell, _parser, expand, load_study, point_text, run_config, study_folder
+from .study_yaml import MAX_BYTES, StudyError, _lstat, _one_line, _read_text
 
 _MAX_INDEX_BYTES = 64 * MAX_BYTES  # an index of MAX_POINTS points with long values fits
 
@@ -50,7 +50,8 @@ class Study:
         # The index must list the points of the study file as the folder holds it (study.yaml):
         # an index cut short or edited would drop or mislabel points without a word.
         spec = load_study(self.folder / "study.yaml", max_points=None, follow=False)
-        points = [(h, values) for h, values, _ in expand(spec)]
+        expanded = expand(spec)
+        points = [(h, values) for h, values, _ in expanded]
         expected = [["hash", *spec["grid"]]] + [[h, *(_cell(values[k]) for k in spec["grid"])] for h, values in points]
         try:
             rows = list(csv.reader(io.StringIO(text, newline="")))
@@ -64,28 +65,19 @@ class Study:
         self.name = self.folder.name
         self.keys = list(spec["grid"])
         self.points = points
-        for h, _ in points:
-            self.config(h)  # each point file holds its point
+        self._configs = {h: config for h, _, config in expanded}
 
     def __repr__(self):
         have = sum(not_regular(self.run_path(h)) is None for h, _ in self.points)
         return f"Study({self.name!r}: {len(self.points)} points over {', '.join(self.keys)}; {have} runs)"
 
     def config(self, h):
-        """The config of the point `h` (its point file, checked to be that point's)."""
-        if not isinstance(h, str) or not _HASH.fullmatch(h):
-            raise StudyError(f"{self.folder}: {h!r} is not a point hash (12 hex digits)")
-        path = self.folder / "points" / f"{h}.yaml"
-        if _lstat(path) is None:
-            raise StudyError(f"{path}: point file missing")
-        config = load_yaml(_read_text(path, "point file", follow=False), path)
-        if not isinstance(config, dict):
-            raise StudyError(f"{path}: the point file is not a config mapping")
-        _check_values(config, "the point", path, [10 ** 5])
-        if point_hash(config) != h:
-            raise StudyError(f"{path}: holds another config than the point {h} (it hashes to "
-                             f"{point_hash(config)}): run the study again to rewrite it")
-        return config
+        """The config of the point `h`: the folder's study.yaml expanded (what run() writes to
+        points/<h>.yaml; a run made from an edited point file is not the point's and is named
+        by problems() and table())."""
+        if h not in self._configs:
+            raise StudyError(f"{self.folder}: {_one_line(repr(h), 40)} is not a point of this study")
+        return copy.deepcopy(self._configs[h])
 
     def run_path(self, h):
         return self.folder / "runs" / f"{h}.h5"
