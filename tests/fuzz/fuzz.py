@@ -29,6 +29,8 @@ import sys
 import tempfile
 import time
 
+import study_files  # the study family (python -m granboltz.study): tests/fuzz/study_files.py
+
 HERE = pathlib.Path(__file__).resolve().parent
 ROOT = HERE.parents[1]
 BASE = ROOT / "tests" / "bad_inputs" / "base"
@@ -661,6 +663,8 @@ class Fuzzer:
 
     # A case returns None (passed) or a short description of the oracle it broke.
     def run_case(self, case):
+        if case["family"] == "study":
+            return study_files.run_case(self, case)
         if case["family"] == "file":
             return self.run_file_case(case)
         return self.run_config_case(case)
@@ -838,6 +842,8 @@ def minimise(fuzzer, case, problem, budget=60):
         p = fuzzer.run_case(c)
         return p is not None and kind_of(p) == kind
 
+    if case["family"] == "study":
+        return study_files.minimise(fuzzer.run_case, case, kind_of, problem)
     case = json.loads(json.dumps(case))
     if case["family"] == "file":
         i = 0
@@ -879,8 +885,8 @@ def minimise(fuzzer, case, problem, budget=60):
 
 
 # ------------------------------------------------------------------------------------------ main
-FAMILIES = {"config": config_case, "set": set_case, "file": None}
-WEIGHTS = [("config", 0.45), ("set", 0.3), ("file", 0.25)]
+FAMILIES = {"config": config_case, "set": set_case, "file": None, "study": study_files.study_case}
+WEIGHTS = [("config", 0.45), ("set", 0.3), ("file", 0.25), ("study", 0.1)]  # study: only when asked (--families)
 
 
 def make_case(seed, k, families):

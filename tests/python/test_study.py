@@ -41,7 +41,8 @@ def cli(cwd, *args):
 
 
 def mtimes(folder, pattern):
-    return {p.name: p.stat().st_mtime_ns for p in folder.glob(pattern)}
+    """mtime of each file matching `pattern`, but the runner lock (which holds the last runner's pid)."""
+    return {p.name: p.stat().st_mtime_ns for p in folder.glob(pattern) if p.name != gs.LOCK_NAME}
 
 
 @pytest.fixture(scope="module")
@@ -161,7 +162,7 @@ def test_missing_runs_raise_or_are_marked(tmp_path):
     write_study(tmp_path / "s.yaml", name="none")
     folder, points = gs.prepare(tmp_path / "s.yaml", into=tmp_path)
     study = gs.Study(folder)
-    with pytest.raises(gs.StudyError, match="4 of 4 points have no run"):
+    with pytest.raises(gs.StudyError, match="4 of 4 points have no sound run .* missing; "):
         study.table()
     table = study.table(missing="skip")
     assert table["missing"].all() and len(table) == 4 and "temperature" not in table.columns
@@ -202,12 +203,26 @@ def test_the_command_line_prints_one_line_and_writes_nothing(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.yaml"]
 
 
-def test_a_failing_point_fails_the_run(tmp_path):
-    need_binary()
-    write_study(tmp_path / "s.yaml", grid={"dsmc.alpha": [1.5]}, name="broken")  # alpha > 1: the simulator refuses
+def test_a_point_the_simulator_refuses_is_refused_before_anything_runs(tmp_path):
+    write_study(tmp_path / "s.yaml", grid={"dsmc.alpha": [0.5, 1.5]}, name="broken")  # alpha > 1: the parser refuses
     out = cli(tmp_path, "run", "s.yaml")
+    assert out.returncode == 2 and out.stderr.count("\n") == 1
+    assert "(dsmc.alpha=1.5): dsmc.alpha = 1.5: must satisfy 0 < alpha <= 1" in out.stderr
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["s.yaml"]
+
+
+def test_a_failing_point_fails_the_run(tmp_path):
+    fake = tmp_path / "fake-granboltz"  # a simulator that fails every run (the configs are sound)
+    fake.write_text("#!/bin/sh\necho 'granboltz: error: out of luck' >&2\nexit 1\n")
+    fake.chmod(0o755)
+    write_study(tmp_path / "s.yaml", grid={"dsmc.alpha": [0.5]}, name="broken")
+    env = dict(os.environ, GRANBOLTZ_BIN=str(fake),
+               PYTHONPATH=os.pathsep.join([str(ROOT / "src" / "python"), os.environ.get("PYTHONPATH", "")]))
+    out = subprocess.run([sys.executable, "-m", "granboltz.study", "run", "s.yaml"], cwd=tmp_path, env=env,
+                         capture_output=True, text=True)
     assert out.returncode == 1 and "Snakemake failed" in out.stderr
-    assert not list((tmp_path / "studies" / "broken" / "runs").glob("*.h5"))
+    folder = tmp_path / "studies" / "broken"
+    assert not list((folder / "runs").glob("*.h5")) and "out of luck" in next((folder / "logs").iterdir()).read_text()
 
 
 def test_the_simulator_is_found_or_named(monkeypatch, tmp_path):

@@ -25,7 +25,8 @@ Modules, one concern each (import the one you need; nothing heavy is imported he
     plotting     matplotlib with the house style, reproducible figure files
     files        atomic CSV/text/JSON writing
     study, study_table   parameter studies: a grid over a base config run through Snakemake
-                 (python -m granboltz.study run STUDY.yaml); Study(folder).table()
+                 (python -m granboltz.study run STUDY.yaml); Study(folder).table(); their parts
+                 study_yaml, study_spec, study_folder, study_runs, study_snakemake
     report       the reproduction report (subpackage)
     inprocess    the simulator in this process (extension granboltz._core): simulate, Simulation,
                  ConfigError, also on the package itself

@@ -4,64 +4,129 @@ averages with their intervals (or the last row of its time series).
 
     study = Study("studies/scan")
     study.points        # [(hash, {grid key: value})] of the current grid (index.csv)
-    study.table()       # DataFrame; missing runs raise StudyError (table(missing="skip") marks them)
+    study.table()       # DataFrame; runs missing or not sound raise StudyError (table(missing="skip") marks them)
 """
 
+import copy
 import csv
+import io
 import pathlib
 
-import yaml
+from .study_folder import check_folder
+from .study_runs import identity_problem, not_regular
+from .study_spec import _cell, _parser, expand, load_study, point_text, run_config, study_folder
+from .study_yaml import MAX_BYTES, StudyError, _lstat, _one_line, _read_text
 
-from .study import StudyError, _get, load_study, study_folder
+_MAX_INDEX_BYTES = 64 * MAX_BYTES  # an index of MAX_POINTS points with long values fits
 
 
 class Study:
     """A study folder (studies/<study>/) as run() wrote it. `path`: the folder, or the study file
     (its folder is studies/<study> under `into`, default the current directory).
 
-        study.points   [(hash, {grid key: value})] of the current grid, in index order
-        study.keys     the grid keys
+        study.points     [(hash, {grid key: value})] of the current grid, in index order
+        study.keys       the grid keys
         study.run_path(hash), study.config(hash)
-        study.table()  pandas DataFrame, one row per point
+        study.missing()  the points without a run file
+        study.problems() {hash: what is wrong} for the points without a sound run of their own
+        study.table()    pandas DataFrame, one row per point
+
+    A run is sound when it is a regular file (a link is not followed) that read_run reads and
+    whose stored config is its point's config as the simulator resolves it
+    (granboltz.study.identity_problem).
     """
 
     def __init__(self, path, into=None):
         path = pathlib.Path(path)
-        if path.is_file():
-            path = study_folder(load_study(path), into)
+        st = _lstat(path)
+        if st is not None and not path.is_dir():
+            path = study_folder(load_study(path, max_points=None), into)
         self.folder = path.absolute()
+        check_folder(self.folder)
         index = self.folder / "index.csv"
+        if _lstat(index) is None:
+            raise StudyError(f"{self.folder}: not a study folder (no index.csv; run `python -m granboltz.study run` first)")
+        text = _read_text(index, "study index", follow=False, limit=_MAX_INDEX_BYTES)
+        # The index must list the points of the study file as the folder holds it (study.yaml):
+        # an index cut short or edited would drop or mislabel points without a word.
+        spec = load_study(self.folder / "study.yaml", max_points=None, follow=False)
+        expanded = expand(spec)
+        points = [(h, values) for h, values, _ in expanded]
+        expected = [["hash", *spec["grid"]]] + [[h, *(_cell(values[k]) for k in spec["grid"])] for h, values in points]
         try:
-            with open(index, newline="") as f:
-                rows = list(csv.reader(f))
-        except OSError:
-            raise StudyError(f"{self.folder}: not a study folder (no index.csv; run `python -m granboltz.study run` first)") from None
-        if not rows or not rows[0] or rows[0][0] != "hash":
-            raise StudyError(f"{index}: not a study index (its first column must be hash)")
+            rows = list(csv.reader(io.StringIO(text, newline="")))
+        except csv.Error as e:
+            raise StudyError(f"{index}: not a study index ({_one_line(e, 100)})") from None
+        if rows != expected:
+            line = next((i for i, (a, b) in enumerate(zip(rows, expected), start=1) if a != b),
+                        min(len(rows), len(expected)) + 1)
+            raise StudyError(f"{index}: does not list the points of {self.folder / 'study.yaml'} (line {line} differs): "
+                             "run the study again to rewrite it")
         self.name = self.folder.name
-        self.keys = rows[0][1:]
-        self.points = []
-        for row in rows[1:]:
-            h, config = row[0], self.config(row[0])
-            self.points.append((h, {k: _get(config, k) for k in self.keys}))
+        self.keys = list(spec["grid"])
+        self.points = points
+        self._configs = {h: config for h, _, config in expanded}
 
     def __repr__(self):
-        have = sum(self.run_path(h).is_file() for h, _ in self.points)
+        have = sum(not_regular(self.run_path(h)) is None for h, _ in self.points)
         return f"Study({self.name!r}: {len(self.points)} points over {', '.join(self.keys)}; {have} runs)"
 
     def config(self, h):
-        path = self.folder / "points" / f"{h}.yaml"
-        try:
-            return yaml.safe_load(path.read_text())
-        except OSError:
-            raise StudyError(f"{path}: point file missing") from None
+        """The config of the point `h`: the folder's study.yaml expanded (what run() writes to
+        points/<h>.yaml; a run made from an edited point file is not the point's and is named
+        by problems() and table())."""
+        if h not in self._configs:
+            raise StudyError(f"{self.folder}: {_one_line(repr(h), 40)} is not a point of this study")
+        return copy.deepcopy(self._configs[h])
 
     def run_path(self, h):
         return self.folder / "runs" / f"{h}.h5"
 
     def missing(self):
-        """The hashes of the points without a run."""
-        return [h for h, _ in self.points if not self.run_path(h).is_file()]
+        """The hashes of the points without a run file (problems() also checks the files)."""
+        return [h for h, _ in self.points if _lstat(self.run_path(h)) is None]
+
+    def _read(self, h):
+        """(Run, None) for a sound run of the point `h`, else (None, what is wrong)."""
+        from .io import RunReadError
+        from .run import read_run
+        from .study_runs import _brief
+
+        path = self.run_path(h)
+        problem = not_regular(path)
+        if problem:
+            return None, problem
+        try:
+            r = read_run(path)
+        except (RunReadError, OSError) as e:
+            return None, f"damaged: {_brief(e, path)}"
+        config = self.config(h)
+        expected = self._run_config(h, config)
+        if isinstance(expected, str):
+            return None, expected
+        problem = identity_problem(config, r.config, r.shard, expected)
+        return (None, problem) if problem else (r, None)
+
+    def _run_config(self, h, config):
+        """The point's run_config by the simulator's parser (None where there is none: then
+        every value of the point's own config must be in its run), or why there is none."""
+        if not hasattr(self, "_parse"):
+            try:
+                self._parse = _parser()
+            except StudyError:
+                self._parse = None
+        if self._parse is None:
+            return None
+        try:
+            return run_config(self._parse(point_text(config), f"point {h}"))
+        except (ValueError, RuntimeError, TypeError) as e:
+            return f"its point is refused by the simulator ({_one_line(' '.join(str(e).split()), 80)})"
+
+    def problems(self):
+        """{hash: what is wrong} of the points without a sound run: "missing", what is there
+        instead of a regular file, "damaged: ..." (read_run's reason) or "the run of another
+        point ..." (its stored config differs from the point's)."""
+        return {h: p for h, _ in self.points for _, p in [self._read(h)] if p}
 
     def table(self, missing="raise"):
         """One row per point: the grid keys, hash, and the run's observables: its steady averages
@@ -73,26 +138,31 @@ class Study:
         did not store them: theta from the means, theta_ci NaN).
         Columns steady (bool) and time (the last observation time, NaN for steady rows).
 
-        missing: "raise" (StudyError naming the points without a run) or "skip" (their rows keep
-        only grid keys and hash, with missing = True; the column missing is there only then)."""
-        import pandas as pd
-
-        from .run import read_run
-
-        absent = self.missing()
-        if absent and missing == "raise":
-            raise StudyError(f"{self.name}: {len(absent)} of {len(self.points)} points have no run "
-                             f"({', '.join(absent[:4])}{', ...' if len(absent) > 4 else ''}): run the study first")
+        missing: "raise" (StudyError naming the points without a sound run: missing, damaged,
+        of another point, or not a regular file) or "skip" (their rows keep only grid keys and
+        hash, with missing = True; the column missing is there only then)."""
         if missing not in ("raise", "skip"):
             raise ValueError(f"missing must be 'raise' or 'skip', not {missing!r}")
+        import pandas as pd
+
+        runs, problems = {}, {}
+        for h, _ in self.points:
+            runs[h], problem = self._read(h)
+            if problem:
+                problems[h] = problem
+        if problems and missing == "raise":
+            named = "; ".join(f"{h} {_one_line(p, 70)}" for h, p in list(problems.items())[:3])
+            more = f"; and {len(problems) - 3} more" if len(problems) > 3 else ""
+            raise StudyError(f"{self.name}: {len(problems)} of {len(self.points)} points have no sound run "
+                             f"({named}{more}): run the study (python -m granboltz.study run) to make them")
         rows = []
         for h, values in self.points:
             row = dict(values, hash=h)
-            if h in absent:
+            if h in problems:
                 row["missing"] = True
             else:
-                row.update(observables(read_run(self.run_path(h))))
-                if absent:
+                row.update(observables(runs[h]))
+                if problems:
                     row["missing"] = False
             rows.append(row)
         return pd.DataFrame(rows)

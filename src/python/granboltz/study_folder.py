@@ -1,0 +1,127 @@
+"""The folder of a parameter study (granboltz.study): its parts checked to be its own (no
+symbolic link among them), files written atomically only when they change, whatever is in the
+way moved aside to damaged/, and the runner lock (one runner per study folder)."""
+
+import contextlib
+import fcntl
+import itertools
+import os
+import pathlib
+import stat
+import tempfile
+
+from .study_yaml import StudyError, _kind, _lstat
+
+
+_PARTS = ("points", "runs", "logs", "damaged", ".snakemake")
+
+
+def check_folder(folder):
+    """StudyError unless the study folder (if it exists) is a folder whose parts (points/, runs/,
+    logs/, damaged/, .snakemake/ and everything in .snakemake/) are its own: folders and files,
+    never a symbolic link, so nothing written in it lands elsewhere."""
+    st = _lstat(folder)
+    if st is None:
+        return
+    try:
+        st = os.stat(folder)  # the study folder itself may be a link (to a scratch disk, say)
+    except OSError as e:
+        raise StudyError(f"{folder}: the study folder cannot be used ({e.strerror or e})") from None
+    if not stat.S_ISDIR(st.st_mode):
+        raise StudyError(f"{folder}: the study folder is {_kind(st.st_mode)}, not a folder")
+    for part in _PARTS:
+        st = _lstat(folder / part)
+        if st is not None and not stat.S_ISDIR(st.st_mode):
+            raise StudyError(f"{folder / part}: is {_kind(st.st_mode)}, not a folder of the study "
+                             "(move it away; the study makes its own)")
+    for root, dirs, files in os.walk(folder / ".snakemake"):
+        for name in dirs + files:
+            st = _lstat(os.path.join(root, name))
+            if st is not None and not (stat.S_ISDIR(st.st_mode) or stat.S_ISREG(st.st_mode)):
+                raise StudyError(f"{os.path.join(root, name)}: is {_kind(st.st_mode)} inside Snakemake's folder "
+                                 "(move it away)")
+
+
+def _move_aside(path, folder):
+    """Move `path` (a file, folder, link or FIFO of the study folder, never followed) into
+    damaged/ under a fresh name; returns the new path."""
+    aside = folder / "damaged"
+    aside.mkdir(exist_ok=True)
+    stem = str(path.relative_to(folder)).replace(os.sep, "-")
+    for n in itertools.count():
+        target = aside / (stem if n == 0 else f"{stem}.{n}")
+        if _lstat(target) is None:
+            break
+    try:
+        os.rename(path, target)
+    except OSError as e:
+        raise StudyError(f"{path}: cannot move it aside to {target} ({e.strerror or e})") from None
+    return target
+
+
+def _write_if_changed(path, text, folder=None):
+    """Write `text` to `path` (atomically) only when the file does not already hold it. Whatever
+    is at `path` and is not a regular file (a link, folder, FIFO) is moved to damaged/ first."""
+    path = pathlib.Path(path)
+    folder = pathlib.Path(folder) if folder is not None else path.parent
+    data = text.encode()
+    st = _lstat(path)
+    if st is not None and stat.S_ISREG(st.st_mode):
+        try:
+            fd = os.open(path, os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK | os.O_CLOEXEC)
+            with os.fdopen(fd, "rb") as f:
+                if f.read(len(data) + 1) == data:
+                    return False
+        except OSError:
+            pass
+    elif st is not None:
+        _move_aside(path, folder)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "wb") as f:
+            f.write(data)
+        os.chmod(tmp, 0o644)
+        os.replace(tmp, path)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.unlink(tmp)
+        raise
+    return True
+
+
+LOCK_NAME = ".runner.lock"
+
+
+@contextlib.contextmanager
+def _runner_lock(folder):
+    """Hold the study folder's runner lock (flock on .runner.lock, which also holds the runner's
+    pid); yields the lock's file descriptor, to be inherited by Snakemake so that the lock lives
+    as long as the runner or its Snakemake does, or None where the file system has no flock.
+    StudyError when another runner holds it."""
+    folder.mkdir(parents=True, exist_ok=True)
+    path = folder / LOCK_NAME
+    st = _lstat(path)
+    if st is not None and not stat.S_ISREG(st.st_mode):
+        _move_aside(path, folder)
+    try:
+        fd = os.open(path, os.O_RDWR | os.O_CREAT | os.O_NOFOLLOW | os.O_NONBLOCK | os.O_CLOEXEC, 0o644)
+    except OSError as e:
+        raise StudyError(f"{path}: cannot open the runner lock ({e.strerror or e})") from None
+    try:
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            held = True
+        except BlockingIOError:
+            pid = os.pread(fd, 40, 0).decode(errors="replace").split()
+            raise StudyError(f"{folder}: another `granboltz.study run` of this study, or the Snakemake it "
+                             f"started, is running{' (runner pid ' + pid[0] + ')' if pid and pid[0].isdigit() else ''}; "
+                             "wait for it or stop it (SIGTERM)") from None
+        except OSError:  # no flock here (some network file systems): no stale-lock recovery either
+            held = False
+        if held:
+            os.ftruncate(fd, 0)
+            os.pwrite(fd, f"{os.getpid()}\n".encode(), 0)
+        yield fd if held else None
+    finally:
+        os.close(fd)
