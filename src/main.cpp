@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <iostream>
 #include <new>
+#include <stdexcept>
 #include <unistd.h>
 
 #include "granboltz/app/config.hpp"
@@ -195,7 +196,14 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "granboltz: error: %s\n", one_line(e.what()).c_str());
     return 2;
   } catch (const std::bad_alloc&) {
-    std::fprintf(stderr, "granboltz: error: out of memory\n");
+    // The memory check before a run counts what it will allocate; this is what it missed (or
+    // memory taken by others meanwhile), said in one line rather than by the library's name.
+    std::fprintf(stderr, "granboltz: error: out of memory: an allocation failed; reduce "
+                         "particles, threads, histogram shells or observation times\n");
+    return 1;
+  } catch (const std::length_error&) {
+    std::fprintf(stderr, "granboltz: error: out of memory: a size beyond what can be allocated; "
+                         "reduce particles, histogram shells or observation times\n");
     return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "granboltz: error: %s\n", one_line(e.what()).c_str());

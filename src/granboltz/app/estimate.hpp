@@ -41,6 +41,12 @@ struct RunEstimate {
 /// ConfigError if it is not finite.
 RunEstimate estimate_run(const Config& config, unsigned threads);
 
+/// Throws ConfigError, naming the key to blame, if the cost of a run of `config` cannot be
+/// bounded: an estimate that is not finite, particles the engine cannot represent, or more
+/// events per ensemble than its counters hold. The closed forms only (no pilot): well under a
+/// millisecond for most configs, so every run checks it, quiet or not.
+void check_cost_bounded(const Config& config);
+
 /// One line: "7 ensembles: 1.23e+07 collisions, 4.1e+06 fictitious, 2.5e+07 kicks; peak memory
 /// 70.0 MiB; wall time about 1.2 min on 2 threads".
 std::string describe(const RunEstimate& e);
