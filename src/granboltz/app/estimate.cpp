@@ -91,6 +91,10 @@ constexpr double kFixedSeconds = 0.014;
 // which have no kicks, are no longer costed as heated runs (1.3-1.7 times too high). Larger n
 // cost more per event (cache misses) in the same proportion as ns_per_dsmc_event.
 constexpr double kNsCandidate = 14.6, kNsCollision = 7.3, kNsKickMaxwell = 7.8, kNsKick = 11.4;
+// Under the Gaussian thermostat a real collision also updates the energy and the scale: 6.5 ns
+// more (one species), 10 more (the general gas); the general gas draws a pair's class by a
+// linear search, 3 ns per candidate and class beyond the first (measured as above, lambda = 0).
+constexpr double kNsGaussianCollision = 6.5, kNsGasGaussianCollision = 10.0, kNsGasClass = 3.0;
 // The general gas engine (dsmc/gas.cpp), from the same runs with one species written (or
 // roughness) beside the one-species engine: 17 ns per candidate (it draws the class of the
 // pair too), 23 more per smooth collision and 33 per rough one, 16 per kick; at an observation
@@ -794,8 +798,10 @@ void dsmc_time(const Config& config, double ensembles, DsmcEvents& e) {
   // The kicks of both partners of every candidate (no splitting, beta > 0).
   const double pair_kicks = heated && !split ? 2.0 * e.candidates : 0.0;
   if (d.general()) {
-    e.ns = e.candidates * kNsGasCandidate +
-           e.collisions * (d.roughness.on ? kNsGasRoughCollision : kNsGasCollision) +
+    const double K = static_cast<double>(d.species.size()), classes = K * (K + 1.0) / 2.0;
+    e.ns = e.candidates * (kNsGasCandidate + (classes - 1.0) * kNsGasClass) +
+           e.collisions * ((d.roughness.on ? kNsGasRoughCollision : kNsGasCollision) +
+                           (gaussian ? kNsGasGaussianCollision : 0.0)) +
            pair_kicks * kNsGasKick +
            n * rows * (kNsGasParticleObserved + (d.species_written ? kNsGasSpeciesObserved : 0.0) +
                        histograms * kNsHistogramParticle);
@@ -805,7 +811,8 @@ void dsmc_time(const Config& config, double ensembles, DsmcEvents& e) {
   } else {
     // The table's 37.5 ns at n <= 10^5 is the RW05 Maxwell config; larger n in proportion.
     const double cache = ns_per_dsmc_event(n, d.majorant) / 37.5;
-    e.ns = cache * (e.candidates * kNsCandidate + e.collisions * kNsCollision +
+    e.ns = cache * (e.candidates * kNsCandidate +
+                    e.collisions * (kNsCollision + (gaussian ? kNsGaussianCollision : 0.0)) +
                     pair_kicks * (d.kernel.lambda > 0.0 ? kNsKick : kNsKickMaxwell)) +
            n * rows * (kNsPerParticleObserved + histograms * kNsHistogramParticle);
   }
