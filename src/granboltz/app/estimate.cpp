@@ -679,6 +679,7 @@ DsmcEvents gas_events(const DsmcConfig& d) {
   double cand = lambda == 0.0 ? rate : g.candidate_rate(R);
   if (!exact) bounds_now(seen_rate), cand = lambda == 0.0 ? rate : g.candidate_rate(R);
   std::vector<double> J(dim * dim), x1(dim), f1(dim), k1(dim), k2(dim), W(dim * dim);
+  std::vector<double> x_of_J;  // the state J was taken at (none yet)
   const double gamma = 1.0 + 1.0 / std::sqrt(2.0);  // ROS2
   bool steady = false;
   for (int step = 0; t < d.t_end; ++step) {
@@ -729,15 +730,22 @@ DsmcEvents gas_events(const DsmcConfig& d) {
     if (exact) h = std::min(h, next_reset - t);
     if (!(h > 0.0) || t + h == t) h = d.t_end - t;
     // ROS2: W = I - gamma h J; k1 = W^-1 f(x); k2 = W^-1 (f(x + h k1) - 2 k1);
-    // x' = x + h (3 k1 + k2)/2. J by forward differences. A step that would change a
-    // temperature by more than four times its allowance, or halve it, is halved (the equations
-    // are far from linear).
-    for (std::size_t j = 0; j < dim; ++j) {
-      x1 = x;
-      const double dxj = 1e-7 * (x[j] > 0.0 ? x[j] : floor) + 1e-300;
-      x1[j] += dxj;
-      g.rhs(x1, f1);
-      for (std::size_t i = 0; i < dim; ++i) J[i * dim + j] = (f1[i] - f[i]) / dxj;
+    // x' = x + h (3 k1 + k2)/2. J by forward differences, taken again once a temperature has
+    // moved by a tenth since (an older J keeps the method stable: a W-method). A step that would
+    // change a temperature by more than four times its allowance, or halve it, is halved (the
+    // equations are far from linear).
+    bool stale = x_of_J.empty();
+    for (std::size_t i = 0; i < dim && !stale; ++i)
+      stale = std::fabs(x[i] - x_of_J[i]) > 0.1 * std::max(x_of_J[i], floor);
+    if (stale) {
+      x_of_J = x;
+      for (std::size_t j = 0; j < dim; ++j) {
+        x1 = x;
+        const double dxj = 1e-7 * (x[j] > 0.0 ? x[j] : floor) + 1e-300;
+        x1[j] += dxj;
+        g.rhs(x1, f1);
+        for (std::size_t i = 0; i < dim; ++i) J[i * dim + j] = (f1[i] - f[i]) / dxj;
+      }
     }
     std::vector<double> next(dim);
     for (int halvings = 0;; ++halvings, h *= 0.5) {
