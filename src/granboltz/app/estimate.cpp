@@ -378,7 +378,8 @@ struct NotFinite {
 // equation above). White noise heats T_a by 2 beta m_a; the Gaussian thermostat rescales every
 // energy by one factor that holds their sum. The equations are stiff for masses far apart, so
 // they are stepped with the L-stable second-order Rosenbrock method (ROS2) and a numerical
-// Jacobian, by steps that change no temperature by more than 5 %.
+// Jacobian, by steps that change no temperature by more than 5 % (or double one that is below a
+// millionth of the largest).
 //
 // Candidates: class (a, b) at k_ab P_ab (R_a + R_b)^lambda, R_a the bound of species a. The
 // engine resets the bounds to the exact maxima at every observation (and at every splitting step
