@@ -737,8 +737,8 @@ DsmcEvents gas_events(const DsmcConfig& d) {
     // equations are far from linear).
     bool stale = x_of_J.empty();
     for (std::size_t i = 0; i < dim && !stale; ++i)
-      stale = std::fabs(x[i] - x_of_J[i]) > 0.1 * std::max(x_of_J[i], floor);
-    if (stale) {
+      stale = std::fabs(x[i] - x_of_J[i]) > 0.1 * (x_of_J[i] > 0.0 ? x_of_J[i] : floor);
+    auto jacobian = [&] {
       x_of_J = x;
       for (std::size_t j = 0; j < dim; ++j) {
         x1 = x;
@@ -747,7 +747,8 @@ DsmcEvents gas_events(const DsmcConfig& d) {
         g.rhs(x1, f1);
         for (std::size_t i = 0; i < dim; ++i) J[i * dim + j] = (f1[i] - f[i]) / dxj;
       }
-    }
+    };
+    if (stale) jacobian();
     std::vector<double> next(dim);
     for (int halvings = 0;; ++halvings, h *= 0.5) {
       for (std::size_t i = 0; i < dim; ++i)
@@ -764,7 +765,16 @@ DsmcEvents gas_events(const DsmcConfig& d) {
         next[i] = ok ? x[i] + h * (1.5 * k1[i] + 0.5 * k2[i]) : x[i] + h * f[i];
         small = small && std::fabs(next[i] - x[i]) <= 4.0 * allowed[i] && next[i] >= 0.5 * x[i];
       }
-      if (small || halvings == 40) break;
+      if (small) break;
+      if (x_of_J != x) {  // an older J: take it afresh before halving the step
+        jacobian();
+        h *= 2.0;
+        continue;
+      }
+      if (halvings == 40) {  // a step this small is safe to take explicitly
+        for (std::size_t i = 0; i < dim; ++i) next[i] = x[i] + h * f[i];
+        break;
+      }
     }
     const double rate0 = rate, cand0 = cand;
     const std::vector<double> seen0 = seen_rate;
