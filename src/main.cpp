@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <iostream>
 #include <new>
+#include <stdexcept>
 #include <unistd.h>
 
 #include "granboltz/app/config.hpp"
@@ -51,15 +52,15 @@ int main(int argc, char** argv) {
 
   std::string config_path, output;
   std::vector<std::string> sets, inputs;
-  unsigned threads = 0;
+  std::string threads_text;  // --threads, read as the config's `threads` is (after parsing)
   bool quiet = false;
   double max_hours = 0.0;
 
   auto* run = app.add_subcommand("run", "run a config and write its HDF5 output");
   run->add_option("config", config_path, "run config (YAML)")->required();
   run->add_option("-o,--output", output, "output file (HDF5)")->required();
-  run->add_option("--threads", threads, "worker threads (0: all cores; never changes results)")
-      ->check(CLI::Range(0u, 1024u));
+  run->add_option("--threads", threads_text,
+                  "worker threads, 0 ... 1024 (0: all cores; never changes results)");
   run->add_option("--set", sets, "override a config key: --set dsmc.particles=1024");
   run->add_flag("-q,--quiet", quiet, "no progress reports");
   run->add_option("--max-hours", max_hours,
@@ -80,8 +81,7 @@ int main(int argc, char** argv) {
       "estimate", "print the expected events, peak memory and wall time of a run");
   estimate->add_option("config", config_path, "run config (YAML)")->required();
   estimate->add_option("--set", sets, "override a config key");
-  estimate->add_option("--threads", threads, "worker threads (0: all cores)")
-      ->check(CLI::Range(0u, 1024u));
+  estimate->add_option("--threads", threads_text, "worker threads, 0 ... 1024 (0: all cores)");
 
   auto* validate = app.add_subcommand("validate", "check a config and print it in full");
   validate->add_option("config", config_path, "run config (YAML)")->required();
@@ -152,6 +152,17 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (*verify) return granboltz::verify_files(inputs, std::cout, std::cerr) ? 0 : 1;
+    // The same integers as the config's `threads` (1e3 is 1000), and one message naming the
+    // option and what it allows for anything else.
+    const bool threads_given = run->count("--threads") || estimate->count("--threads");
+    unsigned threads = 0;
+    if (threads_given) try {
+        threads = static_cast<unsigned>(granboltz::parse_integer(
+            threads_text, "--threads", granboltz::kThreadsRange, threads_text));
+      } catch (const granboltz::ConfigError&) {
+        throw granboltz::ConfigError("--threads " + granboltz::quote_value(threads_text) +
+                                     ": must be an integer from 0 to 1024 (0: all cores)");
+      }
     // Before the config is read: an output that must not be written fails at once.
     if (*run) granboltz::check_output_path(output, {config_path, output + ".checkpoint"});
     granboltz::Config config = granboltz::load_config(config_path, sets);
@@ -159,7 +170,7 @@ int main(int argc, char** argv) {
       std::cout << config.to_yaml(false);
       return 0;
     }
-    if (run->count("--threads") || estimate->count("--threads")) config.threads = threads;
+    if (threads_given) config.threads = threads;
     // Only when someone reads it: for weighted particles the estimate runs a pilot (0.1-0.3 s).
     if (*estimate || max_hours > 0 || !quiet) {
       const granboltz::RunEstimate cost = granboltz::estimate_run(config, config.threads);
@@ -185,7 +196,14 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "granboltz: error: %s\n", one_line(e.what()).c_str());
     return 2;
   } catch (const std::bad_alloc&) {
-    std::fprintf(stderr, "granboltz: error: out of memory\n");
+    // The memory check before a run counts what it will allocate; this is what it missed (or
+    // memory taken by others meanwhile), said in one line rather than by the library's name.
+    std::fprintf(stderr, "granboltz: error: out of memory: an allocation failed; reduce "
+                         "particles, threads, histogram shells or observation times\n");
+    return 1;
+  } catch (const std::length_error&) {
+    std::fprintf(stderr, "granboltz: error: out of memory: a size beyond what can be allocated; "
+                         "reduce particles, histogram shells or observation times\n");
     return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "granboltz: error: %s\n", one_line(e.what()).c_str());

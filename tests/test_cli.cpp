@@ -37,6 +37,18 @@ TEST(CommandLine, VersionAndValidateWork) {
   EXPECT_NE(r.output.find("majorant_update: strict"), std::string::npos) << r.output;
 }
 
+TEST(CommandLine, ThreadsTakeTheIntegersAConfigTakes) {
+  // --threads 1e3 is 1000, as `threads: 1e3` in a config (CLI11's range check used to refuse it
+  // with "Value 1e3 not in range 0 to 1024").
+  TempDir dir;
+  const std::string cfg = dir.write("c.yaml", kHardSpheres);
+  const auto r = run_granboltz("estimate " + cfg + " --threads 1e3");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  const auto q = run_granboltz("estimate " + cfg + " --threads 1.0e0");
+  EXPECT_EQ(q.exit_code, 0) << q.output;
+  EXPECT_NE(q.output.find("on 1 thread"), std::string::npos) << q.output;
+}
+
 TEST(CommandLine, ProvenanceNamesTheMajorantThatAutoChose) {
   // Kicks between the events (no-splitting, heated) leave only the global majorant; a splitting
   // scheme of a small hard-sphere gas takes the pairwise one, with the same bits as asking for it.

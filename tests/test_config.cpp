@@ -119,3 +119,27 @@ TEST(Config, AutoMajorantIsPairwiseWhereItIsExactAndFaster) {
   EXPECT_EQ(chosen({"dsmc.beta=1", "dsmc.scheme=strang", "dsmc.steps=32"}), MajorantKind::kPairwise);
   EXPECT_EQ(chosen({"dsmc.majorant=global"}), MajorantKind::kGlobal);
 }
+
+TEST(Config, IntegerKeysTakeExactlyWholeDecimalsAndNothingElse) {
+  // Whole numbers written as decimals are integers, dsmc.dimension included (it used to be read
+  // as text, so '2' and !!str 2 passed while every other integer key refused them).
+  const Config c = parse_config(kExample3, "t", {"dsmc.particles=1e3", "dsmc.dimension=2.0",
+                                                 "seed=4.2e1", "ensembles=+3"});
+  EXPECT_EQ(c.dsmc.particles, 1000u);
+  EXPECT_EQ(c.dsmc.dimension, 2);
+  EXPECT_EQ(c.seed, 42u);
+  EXPECT_EQ(c.ensembles, 3u);
+  EXPECT_EQ(parse_config(kExample3, "t", {"seed=-0.0e5"}).seed, 0u);
+  // A value a double would round to a whole number is not one: 1e-400 used to be seed 0.
+  EXPECT_EQ(test::config_error(kExample3, {"seed=1e-400"}), "seed = 1e-400: not an integer");
+  EXPECT_EQ(test::config_error(kExample3, {"seed=-1e-400"}), "seed = -1e-400: not an integer");
+  EXPECT_EQ(test::config_error(kExample3, {"dsmc.particles=100.00000000000000001"}),
+            "dsmc.particles = 100.00000000000000001: not an integer");
+  EXPECT_EQ(test::config_error(kExample3, {"dsmc.dimension='3'"}),
+            "dsmc.dimension = \"3\": must be an integer, not a quoted string");
+  // A negative value gets the key's own range, as 0 does.
+  EXPECT_EQ(test::config_error(kExample3, {"ensembles=-2"}), "ensembles = -2: must be >= 1");
+  EXPECT_EQ(test::config_error(kExample3, {"ensembles=0"}), "ensembles = 0: must be >= 1");
+  EXPECT_EQ(test::config_error(kExample3, {"dsmc.moments=-1"}),
+            "dsmc.moments = -1: must satisfy 0 <= moments <= 16");
+}

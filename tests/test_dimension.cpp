@@ -636,7 +636,10 @@ TEST(Dimension, BadDimensionOrGeometryGivesOneLineErrors) {
   const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
       {{"dsmc.dimension=4"}, "dsmc.dimension = 4: must be one of 2, 3"},
       {{"dsmc.dimension=1"}, "dsmc.dimension = 1: must be one of 2, 3"},
-      {{"dsmc.dimension=2.0"}, "dsmc.dimension = 2.0: must be one of 2, 3"},
+      // An integer key like every other: 2.0 is 2, a fraction or a string is refused.
+      {{"dsmc.dimension=2.5"}, "dsmc.dimension = 2.5: not an integer"},
+      {{"dsmc.dimension='2'"}, "dsmc.dimension = \"2\": must be an integer, not a quoted string"},
+      {{"dsmc.dimension=!!str 2"}, "dsmc.dimension = !!str 2: must be an integer, not a value tagged !!str"},
       {{"dsmc.geometry=bogus"}, "dsmc.geometry = bogus: must be one of impact, uniform"},
       {{"dsmc.geometry=[1]"}, "dsmc.geometry = [...]: must be one of impact, uniform"},
   };

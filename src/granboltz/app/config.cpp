@@ -29,21 +29,15 @@ Config parse_config(const std::string& yaml_text, const std::string& origin,
   c.model = model == "intruder" ? Model::kIntruder
             : model == "needle" ? Model::kNeedle : Model::kDsmc;
   c.seed = s.integer("seed");
-  c.ensembles = s.integer("ensembles", 1);
-  s.check(c.ensembles >= 1, "ensembles", static_cast<double>(c.ensembles), "must be >= 1");
-  const std::uint64_t threads = s.integer("threads", 0);
-  s.check(threads <= 1024, "threads", static_cast<double>(threads),
-          "must satisfy 0 <= threads <= 1024 (0: all cores)");
-  c.threads = static_cast<unsigned>(threads);
+  c.ensembles = s.integer("ensembles", 1, {1, kMaxInteger, "must be >= 1"});
+  c.threads = static_cast<unsigned>(s.integer("threads", 0, kThreadsRange));
 
   if (s.has("shard")) {
     const Section sh = s.sub("shard");
-    c.shard.count = sh.integer("count");
-    sh.check(c.shard.count >= 1 && c.shard.count <= c.ensembles, "count",
-             static_cast<double>(c.shard.count), "must satisfy 1 <= count <= ensembles");
-    c.shard.index = sh.integer("index");
-    sh.check(c.shard.index < c.shard.count, "index", static_cast<double>(c.shard.index),
-             "must satisfy 0 <= index < shard.count");
+    c.shard.count =
+        sh.integer("count", {1, c.ensembles, "must satisfy 1 <= count <= ensembles"});
+    c.shard.index =
+        sh.integer("index", {0, c.shard.count - 1, "must satisfy 0 <= index < shard.count"});
     sh.finish({"index", "count"});
   }
   if (s.has("checkpoint")) {

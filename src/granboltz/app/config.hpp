@@ -35,4 +35,8 @@ Config load_config(const std::string& path, const std::vector<std::string>& over
 
 std::string model_name(Model m);
 
+/// The worker threads a config's `threads` and the command line's --threads allow.
+inline const IntegerRange kThreadsRange{0, 1024,
+                                        "must satisfy 0 <= threads <= 1024 (0: all cores)"};
+
 }  // namespace granboltz

@@ -7,8 +7,14 @@
 #include <csignal>
 #include <cstdio>
 #include <cstring>
+#include <ctime>
 #include <functional>
+#include <limits>
+#include <new>
+#include <stdexcept>
+#include <map>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <variant>
 #include <vector>
@@ -18,10 +24,12 @@
 #include <unistd.h>
 
 #include "granboltz/exec/ensemble_pool.hpp"
+#include "granboltz/app/output.hpp"
 #include "granboltz/app/run.hpp"
 #include "granboltz/dsmc/observables.hpp"
 #include "granboltz/dsmc/run.hpp"
 #include "granboltz/dsmc/weighted.hpp"
+#include "granboltz/physics/pair_collision.hpp"
 #include "granboltz/random/rng.hpp"
 #include "granboltz/random/samplers.hpp"
 #include "granboltz/tv06/bath.hpp"
@@ -56,11 +64,44 @@ constexpr double kNsPerParticleObserved = 7.9, kNsObservationKick = 6.4, kNsGaus
 // observations, 100 shells; medians of 3 by CPU time: 1.01 s without, 1.57 origin, 1.68 bulk,
 // 2.43 bulk with component).
 constexpr double kNsHistogramParticle = 5.0;
-// Each observation row costs the output its sums, whatever n (n = 2, 10^4-10^5 rows, moments 0,
-// 4 and 16, histograms of 1000 shells): 5.5 us per moment sum of a row (kNumScalars + P of them)
-// and 0.24 us per histogram shell, once per run; 0.27 us per moment sum and ensemble, added under
-// the record's lock. Neither runs in parallel: they are added to the wall time as they are.
-constexpr double kNsRowSum = 5500.0, kNsRowShell = 240.0, kNsEnsembleRowSum = 270.0;
+// The output's sums and counts (all of them: the record's layout, built without allocating),
+// timed with `granboltz run -q --threads 1` (n = 2, 10^4-10^5 rows, moments 0, 4 and 16,
+// histograms of 1000 shells): 5.5 us per moment sum (Moments2: two exact sums, allocated, turned
+// into mean and interval, written) and 0.24 us per histogram count, once per run; 0.27 us per
+// moment sum and ensemble, added under the record's lock. Measured later on a shared EPYC by CPU
+// time (median of 3, n = 2, one thread) and scaled to the machine of the constants above by the
+// ratio of the same runs' row sums and counts there (10 us and 380 ns: 1.7): a count costs
+// 3.2 ns per ensemble (added under the lock), a moment sum 60 ns per ensemble (not 270: rows of
+// 20 and 36 sums, 1 and 16 ensembles), the steady histogram's sums 5.2 us each as the others
+// (n = 2, 10^5 shells, 11 and 101 rows, 1 and 16 ensembles: 0.44-6.1 s), SWPM's weight per row
+// and shell 6 us; and with steady_from each ensemble averages its steady rows at 2.3 ns per row
+// and shell. A 10^6-shell steady histogram was estimated 4-13 times too low before these, and
+// SWPM's weights per shell not at all. None of this runs in parallel: it is added to the wall
+// time as it is. The process itself (start, HDF5, the output's attributes) takes 14 ms.
+constexpr double kNsMomentSum = 5500.0, kNsCount = 240.0, kNsEnsembleMomentSum = 60.0,
+                 kNsEnsembleCount = 3.2, kNsSteadyRowShellEnsemble = 2.3;
+constexpr double kFixedSeconds = 0.014;
+// An event of the global majorant is not one cost: a fictitious candidate (waiting time, pair,
+// acceptance) is cheaper than a real collision, and the kicks of both partners (no splitting,
+// beta > 0) cost besides. Split that way, from runs of n = 4096 on one thread (CPU time, median
+// of 3, on the shared EPYC, divided by 1.75 so that the RW05 Maxwell config gives its 37.5 ns):
+// 14.6 ns per candidate, 7.3 more per real collision, 7.8 per kick (11.4 for lambda > 0, whose
+// kick updates the majorant); this gives 37.5 (RW05 Maxwell), 38.3 (GRW05 Ex. 5: 38.2) and 16.3
+// (the elastic peer config: 17.3) of the table, and free cooling and the Gaussian thermostat,
+// which have no kicks, are no longer costed as heated runs (1.3-1.7 times too high). Larger n
+// cost more per event (cache misses) in the same proportion as ns_per_dsmc_event.
+constexpr double kNsCandidate = 14.6, kNsCollision = 7.3, kNsKickMaxwell = 7.8, kNsKick = 11.4;
+// Under the Gaussian thermostat a real collision also updates the energy and the scale: 6.5 ns
+// more (one species), 10 more (the general gas); the general gas draws a pair's class by a
+// linear search, 3 ns per candidate and class beyond the first (measured as above, lambda = 0).
+constexpr double kNsGaussianCollision = 6.5, kNsGasGaussianCollision = 10.0, kNsGasClass = 3.0;
+// The general gas engine (dsmc/gas.cpp), from the same runs with one species written (or
+// roughness) beside the one-species engine: 17 ns per candidate (it draws the class of the
+// pair too), 23 more per smooth collision and 33 per rough one, 16 per kick; at an observation
+// 9 ns per particle (measuring, resetting the bounds), 10 more if species are written (each
+// species' rows are measured apart).
+constexpr double kNsGasCandidate = 17.0, kNsGasCollision = 23.0, kNsGasRoughCollision = 33.0,
+                 kNsGasKick = 16.0, kNsGasParticleObserved = 9.0, kNsGasSpeciesObserved = 10.0;
 // TV06 samples are counted per event in O(1), but the sample clock's count is a 64-bit integer:
 // beyond 2^63 samples its arithmetic overflows and the run never ends (measured: 2000 intruder
 // collisions take 0.15 s at sample_every = 1e-15 and do not end in 60 s at 1e-16).
@@ -85,6 +126,26 @@ double ns_per_dsmc_event(double n, MajorantKind m) {
   static const double pairwise[][2] = {{4.0, 38.8}, {5.0, 43.5}, {6.0, 93.0}};
   return m == MajorantKind::kPairwise ? interpolate_log(n, pairwise, 3)
                                       : interpolate_log(n, global, 2);
+}
+
+// The serial work of a DSMC run's output (ns): every moment sum and count of the run's record
+// (its layout, built without allocating: the rows of the gas, of each species and of T_rot,
+// the histograms, the steady sums, SWPM's weights per row and shell), once per run and once per
+// ensemble under the record's lock; with steady_from each ensemble also averages its steady
+// rows of the histograms.
+double output_ns(const Config& config, double ensembles) {
+  const DsmcConfig& d = config.dsmc;
+  Record::Sizing size;
+  layout_of(config);
+  const double moments = static_cast<double>(size.moments), counts = static_cast<double>(size.counts);
+  double ns = moments * (kNsMomentSum + ensembles * kNsEnsembleMomentSum) +
+              counts * (kNsCount + ensembles * kNsEnsembleCount);
+  if (d.steady && d.histogram.shells) {
+    const double shells = (static_cast<double>(d.histogram.shells) + 1.0) *
+                          (d.histogram.component ? 2.0 : 1.0);
+    ns += ensembles * shells * static_cast<double>(steady_rows(d)) * kNsSteadyRowShellEnsemble;
+  }
+  return ns;
 }
 
 // E|u|^p for u Gaussian in d dimensions with variance s2 per component:
@@ -160,11 +221,12 @@ double inelastic_fraction(const RestitutionLaw& law, double lambda, double T) {
 struct DsmcEvents {
   double collisions = 0, candidates = 0, kicks = 0;
   double ns = 0;         // one ensemble on one thread: events, steps, observations
+  double events_ns = 0;  // the part of ns that is events (candidates, collisions, their kicks)
   double serial_ns = 0;  // the run's output sums (all ensembles, not in parallel)
 };
 
-// One ensemble of a DSMC config (constant weights): the events, and their time on one thread.
-DsmcEvents dsmc_events(const DsmcConfig& d, double ensembles) {
+// One ensemble of a DSMC config of one species (constant weights): its events.
+DsmcEvents dsmc_events(const DsmcConfig& d) {
   const double n = static_cast<double>(d.particles);
   const double lambda = d.kernel.lambda, gc = d.kernel.gamma * d.kernel.C;
   const bool heated = d.thermostat == Thermostat::kWhiteNoise && d.beta > 0.0;
@@ -287,20 +349,500 @@ DsmcEvents dsmc_events(const DsmcConfig& d, double ensembles) {
     else
       e.kicks = n * steps;
   }
+  return e;
+}
+
+// Thrown inside the estimate when a quantity it cannot represent turns up (not a config error
+// by itself: estimate_run names the key).
+struct NotFinite {
+  std::string why;
+};
+
+// ---- The general gas (dsmc/gas.cpp: mixtures, rough particles, either dimension) ----
+//
+// The moment equations of the Maxwellian approximation, one translational temperature T_a per
+// species and, for rough particles, one rotational temperature R_a: every species Maxwellian at
+// T_a about the same bulk velocity, spins isotropic and independent of the velocities. A pair
+// (a, b) collides at the rate k_ab |u|^lambda, k_ab = (gamma/n) C sigma_ab^{d-1} |S^{d-1}|, with
+// u Gaussian of variance S_ab = T_a/m_a + T_b/m_b per component; the collision of
+// physics/pair_collision.hpp changes the energies by quadratic forms in u, the spins and the
+// velocity of a given u (mean c_a u, c_a = (T_a/m_a)/S_ab), so their means need only E|u|^lambda,
+// E|u|^(lambda+2), the share gamma_n of |u|^2 that is normal (1/2 in d = 3 and for uniform disks,
+// 2/3 for hard-disk impacts) and the spin variances R_a/I_a. With the normal impulse
+// (1 + eps) g_n, the tangential t g_t, J = (1 + eps) g_n n + t g_t and Q = q (r_a^2 R_a/I_a +
+// r_b^2 R_b/I_b) the mean square of the spins' contact velocity across n (q = 2 in d = 3, 1 in
+// d = 2), per collision
+//   dK_a = -m_ab c_a <(1+eps) g_n^2 + t u_t^2> + m_ab mu_b/2 <(1+eps)^2 g_n^2 + t^2 (u_t^2 + Q)>
+//   dR_a = -t q m_ab r_a^2 R_a/I_a + m_ab^2 r_a^2/(2 I_a) t^2 <u_t^2 + Q>
+// (<.> weighted by |u|^lambda; for one species of smooth particles this is the one-species
+// equation above). White noise heats T_a by 2 beta m_a; the Gaussian thermostat rescales every
+// energy by one factor that holds their sum. The equations are stiff for masses far apart, so
+// they are stepped with the L-stable second-order Rosenbrock method (ROS2) and a numerical
+// Jacobian, by steps that change no temperature by more than 5 % (or double one that is below a
+// millionth of the largest).
+//
+// Candidates: class (a, b) at k_ab P_ab (R_a + R_b)^lambda, R_a the bound of species a. The
+// engine resets the bounds to the exact maxima at every observation (and at every splitting step
+// of a heated run), and between resets raises them to every velocity it meets after a collision:
+// R_a is the expected maximum of the N_a + (velocities seen since the reset) draws of a
+// Maxwellian at the highest T_a since the reset. Up to kExactResets resets are followed one by
+// one; beyond, the bound is that of the middle of an interval at the current temperature.
+
+// The share of |u|^2 along the impact normal, <(u^.n)^2>.
+double normal_share(const DsmcConfig& d) {
+  return d.dimension == 2 && d.geometry == Geometry::kImpact ? 2.0 / 3.0 : 0.5;
+}
+
+// <(1+eps) g_n^2> / <g_n^2> and <(1+eps)^2 g_n^2> / <g_n^2> over collisions (weight |u|^lambda)
+// of a Gaussian u of variance S per component, for a law of g_n: midpoint sums over |u| = sqrt(S)
+// rho (rho of the chi law with d degrees of freedom) and the impact angle.
+std::pair<double, double> law_factors(const RestitutionLaw& law, double lambda, double S,
+                                      const DsmcConfig& d) {
+  constexpr int kR = 48, kZ = 24;
+  constexpr double kRMax = 12.0;
+  double a1 = 0.0, a2 = 0.0, norm = 0.0;
+  for (int i = 0; i < kR; ++i) {
+    const double rho = (i + 0.5) * kRMax / kR;
+    const double wr = std::pow(rho, d.dimension + 1.0 + lambda) * std::exp(-0.5 * rho * rho);
+    for (int k = 0; k < kZ; ++k) {
+      const double x = (k + 0.5) / kZ;
+      // z = (u^.n)^2: uniform on [0, 1] in d = 3 (e uniform on S^2), 1 - s^2 with s uniform for
+      // hard-disk impacts, (1 - cos phi)/2 with phi uniform for uniform disks.
+      const double z = d.dimension == 3                 ? x
+                       : d.geometry == Geometry::kImpact ? 1.0 - x * x
+                                                         : 0.5 * (1.0 - std::cos(M_PI * x));
+      const double eps =
+          std::visit([&](const auto& l) { return l.eps_of_g2(S * rho * rho * z); }, law);
+      a1 += wr * z * (1.0 + eps);
+      a2 += wr * z * (1.0 + eps) * (1.0 + eps);
+      norm += wr * z;
+    }
+  }
+  return {a1 / norm, a2 / norm};
+}
+
+constexpr double kExactResets = 1000;
+
+class GasModel {
+ public:
+  explicit GasModel(const DsmcConfig& d)
+      : d_(d), K_(d.species.size()), rough_(d.roughness.on), lambda_(d.kernel.lambda) {
+    const double n = static_cast<double>(d.particles);
+    for (const SpeciesSpec& s : d.species) {
+      N_.push_back(static_cast<double>(s.count));
+      m_.push_back(s.mass);
+      r_.push_back(0.5 * s.diameter);
+      I_.push_back(s.moment_of_inertia());
+    }
+    for (std::size_t a = 0; a < K_; ++a)
+      for (std::size_t b = a; b < K_; ++b) {
+        Class c;
+        c.a = a;
+        c.b = b;
+        c.pairs = a == b ? 0.5 * N_[a] * (N_[a] - 1.0) : N_[a] * N_[b];
+        const double sigma = r_[a] + r_[b];
+        c.k = d.kernel.gamma / n * d.kernel.C * (d.dimension == 2 ? sigma : sigma * sigma) *
+              d.kernel.area;
+        c.alpha = d.pair_alpha(a, b);
+        c.terms = pair_terms(m_[a], m_[b], d.species[a].diameter, d.species[b].diameter,
+                             rough_ ? d.roughness.beta : -1.0, rough_ ? d.species[a].inertia : 0.0,
+                             rough_ ? d.species[b].inertia : 0.0);
+        c.m_ab = m_[a] * m_[b] / (m_[a] + m_[b]);
+        classes_.push_back(c);
+      }
+    gn_ = normal_share(d);
+    q_ = d.dimension == 2 ? 1.0 : 2.0;
+    d_rot_ = d.dimension == 2 ? 1.0 : 3.0;
+    heat_ = d.thermostat == Thermostat::kWhiteNoise ? 2.0 * d.beta : 0.0;
+    gaussian_ = d.thermostat == Thermostat::kGaussian;
+  }
+
+  /// Throws NotFinite for a config whose particles the engine cannot represent: a thermal
+  /// speed whose square (times the margin of the largest of n draws) overflows, or, for rough
+  /// particles, a moment of inertia I = kappa m sigma^2/4 that underflows to 0 or gives spins
+  /// or contact speeds that overflow (the engine's velocities turn into NaN, and a NaN rate
+  /// never reaches the end of an interval).
+  void check_scales() const {
+    for (std::size_t a = 0; a < K_; ++a) {
+      const std::string name = "species " + d_.species[a].name;
+      if (!std::isfinite(1e4 * d_.initial_temperature / m_[a]))
+        throw NotFinite{"the thermal speed of " + name + ", sqrt(T/m), overflows"};
+      if (!rough_) continue;
+      const double spin2 = d_.initial_rotational_temperature / I_[a];
+      if (!(I_[a] >= std::numeric_limits<double>::min()) || !std::isfinite(1e4 * spin2) ||
+          !std::isfinite(1e4 * spin2 * r_[a] * r_[a]))
+        throw NotFinite{"the spins of " + name + ", sqrt(T_rot/I) with I = kappa m sigma^2/4 = " +
+                        format_real(I_[a]) + ", overflow"};
+    }
+    for (const Class& c : classes_)
+      if (!std::isfinite(c.k * c.pairs) || !std::isfinite(c.terms.spin_a + c.terms.spin_b +
+                                                          c.terms.tangential))
+        throw NotFinite{"the collision terms of species " + d_.species[c.a].name + " and " +
+                        d_.species[c.b].name + " overflow"};
+  }
+
+  std::size_t size() const { return rough_ ? 2 * K_ : K_; }
+  std::vector<double> initial() const {
+    std::vector<double> x(K_, d_.initial_temperature);
+    if (rough_) x.insert(x.end(), K_, d_.initial_rotational_temperature);
+    return x;
+  }
+
+  // dx/dt; with `collisions`, the real collisions per unit time, and with `seen`, per species
+  // the particles that take part in them per unit time.
+  void rhs(const std::vector<double>& x, std::vector<double>& dx, double* collisions = nullptr,
+           std::vector<double>* seen = nullptr) {
+    const int dim = d_.dimension;
+    dx.assign(x.size(), 0.0);
+    if (collisions) *collisions = 0.0;
+    if (seen) seen->assign(K_, 0.0);
+    for (Class& c : classes_) {
+      const std::size_t a = c.a, b = c.b;
+      const double va = std::max(x[a], 0.0) / m_[a], vb = std::max(x[b], 0.0) / m_[b];
+      const double S = va + vb;
+      if (!(S > 0.0)) continue;
+      const double rate = c.k * c.pairs * gaussian_moment(S, lambda_, dim);  // collisions
+      const double flux = c.k * c.pairs * gaussian_moment(S, lambda_ + 2.0, dim);  // rate <|u|^2>
+      if (collisions) *collisions += rate;
+      if (seen) (*seen)[a] += rate, (*seen)[b] += rate;
+      double a1 = 1.0 + c.alpha, a2 = a1 * a1;
+      if (!is_constant(d_.restitution)) std::tie(a1, a2) = factors(c, S);
+      const double ca = va / S, cb = vb / S, t = c.terms.tangential;
+      double Q = 0.0;
+      if (rough_ && t != 0.0)
+        Q = q_ * (c.terms.r_a * c.terms.r_a * std::max(x[K_ + a], 0.0) / I_[a] +
+                  c.terms.r_b * c.terms.r_b * std::max(x[K_ + b], 0.0) / I_[b]);
+      // Per unit time: rate <g_n^2 ...> = flux gamma_n ..., rate <u_t^2> = flux (1 - gamma_n).
+      const double gn2 = gn_ * flux, ut2 = (1.0 - gn_) * flux;
+      const double common = a1 * gn2 + t * ut2;
+      const double jj = a2 * gn2 + t * t * (ut2 + rate * Q);
+      dx[a] += -c.m_ab * ca * common + 0.5 * c.m_ab * c.terms.mu_b * jj;
+      dx[b] += -c.m_ab * cb * common + 0.5 * c.m_ab * c.terms.mu_a * jj;
+      if (rough_ && t != 0.0) {
+        const double ra2 = c.terms.r_a * c.terms.r_a, rb2 = c.terms.r_b * c.terms.r_b;
+        const double spin = t * t * (ut2 + rate * Q) * c.m_ab * c.m_ab;
+        dx[K_ + a] += -t * q_ * c.m_ab * ra2 * rate * std::max(x[K_ + a], 0.0) / I_[a] +
+                      0.5 * spin * ra2 / I_[a];
+        dx[K_ + b] += -t * q_ * c.m_ab * rb2 * rate * std::max(x[K_ + b], 0.0) / I_[b] +
+                      0.5 * spin * rb2 / I_[b];
+      }
+    }
+    // Energies per unit time into temperatures: T_a = 2 K_a/(d N_a), R_a = 2 E_a/(d_rot N_a).
+    double loss = 0.0, energy = 0.0;
+    for (std::size_t a = 0; a < K_; ++a) {
+      loss += dx[a];
+      energy += 0.5 * dim * N_[a] * std::max(x[a], 0.0);
+      dx[a] *= 2.0 / (dim * N_[a]);
+      if (rough_) {
+        loss += dx[K_ + a];
+        energy += 0.5 * d_rot_ * N_[a] * std::max(x[K_ + a], 0.0);
+        dx[K_ + a] *= 2.0 / (d_rot_ * N_[a]);
+      }
+    }
+    zeta_ = 0.0;
+    if (gaussian_ && energy > 0.0) {
+      zeta_ = -loss / energy;
+      for (std::size_t i = 0; i < x.size(); ++i) dx[i] += zeta_ * std::max(x[i], 0.0);
+    }
+    for (std::size_t a = 0; a < K_; ++a) dx[a] += heat_ * m_[a];
+  }
+
+  // Candidates per unit time with the bounds R.
+  double candidate_rate(const std::vector<double>& R) const {
+    double s = 0.0;
+    for (const Class& c : classes_) s += c.k * c.pairs * std::pow(R[c.a] + R[c.b], lambda_);
+    return s;
+  }
+  // The expected exact maximum of |v - V| over `draws` velocities of species a at temperature T.
+  double bound(std::size_t a, double T, double draws) const {
+    return std::sqrt(std::max(T, 0.0) / m_[a]) * chi_expected_max(draws, d_.dimension);
+  }
+  double particles(std::size_t a) const { return N_[a]; }
+  /// The Gaussian thermostat's rate at the last rhs: the stored energy falls as e^(-zeta t)
+  /// between the engine's folds (0 for the other thermostats).
+  double zeta() const { return zeta_; }
+  std::size_t species() const { return K_; }
+
+ private:
+  struct Class {
+    std::size_t a = 0, b = 0;
+    double pairs = 0.0, k = 0.0, alpha = 1.0, m_ab = 0.5;
+    PairTerms terms;
+    std::map<long, std::pair<double, double>> law;  // law_factors by ln S in steps of 1/16
+  };
+  // A law's factors, linear in ln S between points 1/16 apart (each computed once).
+  std::pair<double, double> factors(Class& c, double S) {
+    const double x = 16.0 * std::log(S);
+    const double lo = std::floor(x), w = x - lo;
+    auto at = [&](double k) {
+      auto it = c.law.find(static_cast<long>(k));
+      if (it == c.law.end())
+        it = c.law.emplace(static_cast<long>(k),
+                           law_factors(d_.restitution, lambda_, std::exp(k / 16.0), d_))
+                 .first;
+      return it->second;
+    };
+    const auto p = at(lo), q = at(lo + 1.0);
+    return {p.first + w * (q.first - p.first), p.second + w * (q.second - p.second)};
+  }
+
+  const DsmcConfig& d_;
+  std::size_t K_;
+  bool rough_;
+  double lambda_;
+  std::vector<double> N_, m_, r_, I_;
+  std::vector<Class> classes_;
+  double gn_ = 0.5, q_ = 2.0, d_rot_ = 3.0, heat_ = 0.0, zeta_ = 0.0;
+  bool gaussian_ = false;
+};
+
+// Solves A x = b (n x n, row-major) by Gaussian elimination with partial pivoting; false if
+// singular.
+bool solve(std::vector<double> A, std::vector<double>& b) {
+  const std::size_t n = b.size();
+  for (std::size_t k = 0; k < n; ++k) {
+    std::size_t p = k;
+    for (std::size_t i = k + 1; i < n; ++i)
+      if (std::fabs(A[i * n + k]) > std::fabs(A[p * n + k])) p = i;
+    if (!(std::fabs(A[p * n + k]) > 0.0)) return false;
+    if (p != k) {
+      for (std::size_t j = 0; j < n; ++j) std::swap(A[k * n + j], A[p * n + j]);
+      std::swap(b[k], b[p]);
+    }
+    for (std::size_t i = k + 1; i < n; ++i) {
+      const double f = A[i * n + k] / A[k * n + k];
+      for (std::size_t j = k; j < n; ++j) A[i * n + j] -= f * A[k * n + j];
+      b[i] -= f * b[k];
+    }
+  }
+  for (std::size_t k = n; k-- > 0;) {
+    for (std::size_t j = k + 1; j < n; ++j) b[k] -= A[k * n + j] * b[j];
+    b[k] /= A[k * n + k];
+  }
+  return true;
+}
+
+// The mean of a positive rate over a step from its values at the ends, exact if it changes
+// exponentially (as the Gaussian thermostat's bounds do): the logarithmic mean.
+double step_mean(double a, double b) {
+  if (!(a > 0.0 && b > 0.0) || std::fabs(a - b) <= 1e-9 * (a + b)) return 0.5 * (a + b);
+  return (b - a) / std::log(b / a);
+}
+
+// One ensemble of a general-gas config: its events and their time on one thread.
+DsmcEvents gas_events(const DsmcConfig& d) {
+  GasModel g(d);
+  g.check_scales();
+  const std::size_t K = g.species(), dim = g.size();
+  const double n = static_cast<double>(d.particles);
+  const bool heated = d.thermostat == Thermostat::kWhiteNoise && d.beta > 0.0;
+  const bool split = d.scheme != Scheme::kNoSplit;
+  const double lambda = d.kernel.lambda;
+  const double observations = static_cast<double>(d.observations());
+  const double steps = split ? static_cast<double>(d.steps) : 0.0;
+  // The bounds are reset at every observation, and at every step of a heated splitting run.
+  const double resets = heated && split ? steps : observations;
+  const double period = d.t_end / resets;
+  const bool exact = resets <= kExactResets;
+  std::vector<double> x = g.initial(), f, seen_rate(K), peak(x.begin(), x.begin() + K);
+  std::vector<double> seen(K), R(K), bound(K);
+  // Under the Gaussian thermostat the engine keeps velocities and bounds in stored units that
+  // shrink with the energy lost since its last fold (the true values are scaled back up): a
+  // bound set at one time grows in true units as e^(zeta t/2) until the next reset, folds or not.
+  double inflate = 0.0;  // ln of that growth since the reset
+  auto reset = [&] {
+    inflate = 0.0;
+    for (std::size_t a = 0; a < K; ++a) {
+      seen[a] = g.particles(a);
+      peak[a] = x[a];
+      R[a] = bound[a] = g.bound(a, x[a], seen[a]);
+    }
+  };
+  // The bounds at the state x: followed from the reset (exact), or those of the middle of an
+  // interval at the current temperatures.
+  auto bounds_now = [&](const std::vector<double>& seen_per_time) {
+    if (exact) {
+      for (std::size_t a = 0; a < K; ++a) {
+        peak[a] = std::max(peak[a], x[a]);
+        bound[a] = std::max(bound[a], g.bound(a, peak[a], seen[a]));
+        R[a] = bound[a] * std::exp(0.5 * inflate);
+      }
+    } else {
+      for (std::size_t a = 0; a < K; ++a)
+        R[a] = g.bound(a, x[a], g.particles(a) + 0.5 * period * seen_per_time[a]) *
+               std::exp(0.25 * g.zeta() * period);
+    }
+  };
+  DsmcEvents e;
+  double t = 0.0, next_reset = period, rate = 0.0;
+  reset();
+  g.rhs(x, f, &rate, &seen_rate);
+  double cand = lambda == 0.0 ? rate : g.candidate_rate(R);
+  if (!exact) bounds_now(seen_rate), cand = lambda == 0.0 ? rate : g.candidate_rate(R);
+  std::vector<double> J(dim * dim), x1(dim), f1(dim), k1(dim), k2(dim), W(dim * dim);
+  std::vector<double> x_of_J;  // the state J was taken at (none yet)
+  const double gamma = 1.0 + 1.0 / std::sqrt(2.0);  // ROS2
+  bool steady = false;
+  for (int step = 0; t < d.t_end; ++step) {
+    double h = d.t_end - t;
+    // Steady: what is left would change no temperature by 1e-4; the rates then change only
+    // with the bounds, the same in every interval between resets.
+    double change = 0.0;
+    for (std::size_t i = 0; i < dim; ++i)
+      if (x[i] > 0.0) change = std::max(change, std::fabs(f[i]) / x[i]);
+    if (!steady && change * (d.t_end - t) < 1e-4) steady = true;
+    if (steady || step == kMaxSteps) {
+      if (!exact || lambda == 0.0) {  // the rates of now to the end
+        e.collisions += h * rate;
+        e.candidates += h * cand;
+        break;
+      }
+      // One interval from the next reset on, by sixteen pieces (the bounds grow like
+      // sqrt(log seen)), repeated to the end; first the rest of the current one.
+      auto interval = [&](double length, bool from_reset) {
+        if (from_reset) reset();
+        double c = 0.0;
+        for (int k = 0; k < 16; ++k) {
+          for (std::size_t a = 0; a < K; ++a) seen[a] += seen_rate[a] * length / 16.0;
+          inflate += g.zeta() * length / 16.0;
+          const double before = g.candidate_rate(R);
+          bounds_now(seen_rate);
+          c += step_mean(before, g.candidate_rate(R)) * length / 16.0;
+        }
+        return c;
+      };
+      const double rest = std::min(next_reset, d.t_end) - t;
+      e.candidates += interval(rest, false);
+      const double whole = std::round((d.t_end - std::min(next_reset, d.t_end)) / period);
+      if (whole > 0.0) e.candidates += whole * interval(period, true);
+      e.collisions += h * rate;
+      break;
+    }
+    // Each temperature changes by at most 5 % of itself per step, or may double while it is
+    // below a millionth of the largest (T = 1 against T_rot = 10^100: the steps resolve its
+    // rise, but do not crawl up 230 orders of magnitude at 5 %); one at 0 (T_rot(0) = 0) is
+    // measured against a 10^-12th of the largest.
+    const double largest = *std::max_element(x.begin(), x.end()), floor = 1e-12 * largest;
+    std::vector<double> allowed(dim);
+    for (std::size_t i = 0; i < dim; ++i) {
+      allowed[i] = (x[i] >= 1e-6 * largest ? 0.05 : 1.0) * (x[i] > 0.0 ? x[i] : floor);
+      if (f[i] != 0.0) h = std::min(h, allowed[i] / std::fabs(f[i]));
+    }
+    if (exact) h = std::min(h, next_reset - t);
+    if (!(h > 0.0) || t + h == t) h = d.t_end - t;
+    // ROS2: W = I - gamma h J; k1 = W^-1 f(x); k2 = W^-1 (f(x + h k1) - 2 k1);
+    // x' = x + h (3 k1 + k2)/2. J by forward differences, taken again once a temperature has
+    // moved by a tenth since (an older J keeps the method stable: a W-method). A step that would
+    // change a temperature by more than four times its allowance, or halve it, is halved (the
+    // equations are far from linear).
+    bool stale = x_of_J.empty();
+    for (std::size_t i = 0; i < dim && !stale; ++i)
+      stale = std::fabs(x[i] - x_of_J[i]) > 0.1 * (x_of_J[i] > 0.0 ? x_of_J[i] : floor);
+    auto jacobian = [&] {
+      x_of_J = x;
+      for (std::size_t j = 0; j < dim; ++j) {
+        x1 = x;
+        const double dxj = 1e-7 * (x[j] > 0.0 ? x[j] : floor) + 1e-300;
+        x1[j] += dxj;
+        g.rhs(x1, f1);
+        for (std::size_t i = 0; i < dim; ++i) J[i * dim + j] = (f1[i] - f[i]) / dxj;
+      }
+    };
+    if (stale) jacobian();
+    std::vector<double> next(dim);
+    for (int halvings = 0;; ++halvings, h *= 0.5) {
+      for (std::size_t i = 0; i < dim; ++i)
+        for (std::size_t j = 0; j < dim; ++j)
+          W[i * dim + j] = (i == j) - gamma * h * J[i * dim + j];
+      k1 = f;
+      bool ok = solve(W, k1);
+      for (std::size_t i = 0; i < dim; ++i) x1[i] = x[i] + h * k1[i];
+      g.rhs(x1, f1);
+      for (std::size_t i = 0; i < dim; ++i) k2[i] = f1[i] - 2.0 * k1[i];
+      ok = ok && solve(W, k2);
+      bool small = true;  // no temperature jumps by more than a fifth, nor falls below half
+      for (std::size_t i = 0; i < dim; ++i) {
+        next[i] = ok ? x[i] + h * (1.5 * k1[i] + 0.5 * k2[i]) : x[i] + h * f[i];
+        small = small && std::fabs(next[i] - x[i]) <= 4.0 * allowed[i] && next[i] >= 0.5 * x[i];
+      }
+      if (small) break;
+      if (x_of_J != x) {  // an older J: take it afresh before halving the step
+        jacobian();
+        h *= 2.0;
+        continue;
+      }
+      if (halvings == 40) {  // a step this small is safe to take explicitly
+        for (std::size_t i = 0; i < dim; ++i) next[i] = x[i] + h * f[i];
+        break;
+      }
+    }
+    const double rate0 = rate, cand0 = cand;
+    const std::vector<double> seen0 = seen_rate;
+    for (std::size_t i = 0; i < dim; ++i) x[i] = std::max(next[i], 0.0);
+    const double zeta0 = g.zeta();
+    g.rhs(x, f, &rate, &seen_rate);
+    inflate += 0.5 * h * (zeta0 + g.zeta());
+    for (std::size_t a = 0; a < K; ++a) seen[a] += 0.5 * h * (seen0[a] + seen_rate[a]);
+    bounds_now(seen_rate);
+    cand = lambda == 0.0 ? rate : g.candidate_rate(R);
+    e.collisions += h * step_mean(rate0, rate);
+    e.candidates += h * step_mean(cand0, cand);
+    t += h;
+    if (exact && t >= next_reset * (1.0 - 1e-12)) {
+      t = next_reset;
+      next_reset += period;
+      reset();
+      cand = lambda == 0.0 ? rate : g.candidate_rate(R);
+    }
+    if (!std::isfinite(e.candidates + e.collisions)) break;
+  }
+  e.candidates = std::max(e.candidates, e.collisions);
+  if (heated) e.kicks = split ? n * steps : 2.0 * e.candidates + n * observations;
+  return e;
+}
+
+// The time of one ensemble's events, steps and observations on one thread (ns), and of the
+// run's serial work (serial_ns): the output's sums and histograms, added under the record's
+// lock or written once.
+void dsmc_time(const Config& config, double ensembles, DsmcEvents& e) {
+  const DsmcConfig& d = config.dsmc;
+  const double n = static_cast<double>(d.particles);
+  const bool heated = d.thermostat == Thermostat::kWhiteNoise && d.beta > 0.0;
+  const bool gaussian = d.thermostat == Thermostat::kGaussian;
+  const bool split = d.scheme != Scheme::kNoSplit;
+  const double observations = static_cast<double>(d.observations());
+  const double rows = observations + 1.0;
+  const double steps = split ? static_cast<double>(d.steps) : 0.0;
   const double histograms = d.histogram.shells ? (d.histogram.component ? 2.0 : 1.0) : 0.0;
-  e.ns = e.candidates * ns_per_dsmc_event(n, d.majorant) +
-         n * (observations + 1.0) * (kNsPerParticleObserved + histograms * kNsHistogramParticle);
+  // The kicks of both partners of every candidate (no splitting, beta > 0).
+  const double pair_kicks = heated && !split ? 2.0 * e.candidates : 0.0;
+  if (d.general()) {
+    const double K = static_cast<double>(d.species.size()), classes = K * (K + 1.0) / 2.0;
+    e.ns = e.candidates * (kNsGasCandidate + (classes - 1.0) * kNsGasClass) +
+           e.collisions * ((d.roughness.on ? kNsGasRoughCollision : kNsGasCollision) +
+                           (gaussian ? kNsGasGaussianCollision : 0.0)) +
+           pair_kicks * kNsGasKick +
+           n * rows * (kNsGasParticleObserved + (d.species_written ? kNsGasSpeciesObserved : 0.0) +
+                       histograms * kNsHistogramParticle);
+  } else if (d.majorant == MajorantKind::kPairwise) {
+    e.ns = e.candidates * ns_per_dsmc_event(n, d.majorant) +
+           n * rows * (kNsPerParticleObserved + histograms * kNsHistogramParticle);
+  } else {
+    // The table's 37.5 ns at n <= 10^5 is the RW05 Maxwell config; larger n in proportion.
+    const double cache = ns_per_dsmc_event(n, d.majorant) / 37.5;
+    e.ns = cache * (e.candidates * kNsCandidate +
+                    e.collisions * (kNsCollision + (gaussian ? kNsGaussianCollision : 0.0)) +
+                    pair_kicks * (d.kernel.lambda > 0.0 ? kNsKick : kNsKickMaxwell)) +
+           n * rows * (kNsPerParticleObserved + histograms * kNsHistogramParticle);
+  }
+  e.events_ns = e.ns - n * rows * histograms * kNsHistogramParticle -
+                n * rows * (d.general() ? kNsGasParticleObserved +
+                                              (d.species_written ? kNsGasSpeciesObserved : 0.0)
+                                        : kNsPerParticleObserved);
   if (split) e.ns += steps * (d.scheme == Scheme::kEuler ? kNsEulerStep : kNsStrangStep);
   if (heated) e.ns += split ? e.kicks * kNsStepKick : n * observations * kNsObservationKick;
-  if (gaussian) e.ns += n * (observations + 1.0) * kNsGaussianFold;
-  // The component histogram has as many bins as the radial one.
-  const double sums = kNumScalars + d.moments,
-               shells = d.histogram.shells ? (static_cast<double>(d.histogram.shells) + 1.0) *
-                                                 (d.histogram.component ? 2.0 : 1.0)
-                                           : 0.0;
-  e.serial_ns = (observations + 1.0) * (sums * (kNsRowSum + ensembles * kNsEnsembleRowSum) +
-                                        shells * kNsRowShell);
-  return e;
+  if (gaussian) e.ns += n * rows * kNsGaussianFold;
+  e.serial_ns = output_ns(config, ensembles);
 }
 
 // SWPM (dsmc.weights: swpm): the particle number, the majorant and the split and reduction
@@ -314,11 +856,6 @@ DsmcEvents dsmc_events(const DsmcConfig& d, double ensembles) {
 // never draws them, and an extreme config can keep one reduction busy for minutes (gamma = 1e12:
 // more than 10 minutes), none of which a flag checked between events could stop. The estimate is
 // extrapolated from the last stop reported.
-// Thrown inside the estimate when a quantity it cannot represent turns up (not a config error
-// by itself: estimate_run names the key).
-struct NotFinite {
-  std::string why;
-};
 
 constexpr double kPilotCandidates = 1e5;
 constexpr double kPilotStops = 64.0;
@@ -328,6 +865,14 @@ struct WeightedCost {
   DsmcEvents events;
   double seconds = 0.0;  // one ensemble on one thread
   bool stuck = false;    // the pilot did not pass its first stop: seconds is a lower bound
+  /// A pilot that did not pass its first stop (1/kPilotStops of t_end at most) in
+  /// kPilotSeconds: the run takes longer than kPilotStops times that, all that is known.
+  static WeightedCost lower_bound() {
+    WeightedCost c;
+    c.stuck = true;
+    c.seconds = kPilotSeconds * kPilotStops;
+    return c;
+  }
 };
 
 // One stop of the pilot: its events so far, and what the extrapolation needs besides.
@@ -339,8 +884,15 @@ struct PilotMark {
 // Runs the pilot, handing every stop to `emit`.
 template <class Emit>
 void run_pilot(const DsmcConfig& d, std::uint64_t seed, Emit&& emit) {
-  using Clock = std::chrono::steady_clock;
-  const auto start = Clock::now();
+  // The pilot's CPU time, not the wall clock: on a machine shared with other jobs the wall
+  // clock ran twice as long and the estimate with it (the other engines' costs are CPU times
+  // of an otherwise idle machine too). The pilot is the only thread of its process.
+  auto cpu_seconds = [] {
+    timespec ts{};
+    ::clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+  };
+  const double start = cpu_seconds();
   WeightedEnsemble pilot(d, seed, 0);
   const bool heated = d.thermostat == Thermostat::kWhiteNoise && d.beta > 0.0;
   const std::vector<double> times = dsmc_times(d);
@@ -350,7 +902,7 @@ void run_pilot(const DsmcConfig& d, std::uint64_t seed, Emit&& emit) {
     candidates = static_cast<double>(c.collisions + c.fictitious);
     emit(PilotMark{t, candidates, static_cast<double>(c.collisions),
                    static_cast<double>(c.kicks) - stop_kicks,
-                   std::chrono::duration<double>(Clock::now() - start).count(), observed,
+                   cpu_seconds() - start, observed,
                    observation_kicks, static_cast<double>(pilot.particles().size())});
   };
   mark(0.0);
@@ -399,6 +951,10 @@ std::vector<PilotMark> pilot_marks(const DsmcConfig& d, std::uint64_t seed) {
     };
     try {
       run_pilot(d, seed, [&](const PilotMark& m) { put(&m, sizeof m); });
+    } catch (const std::bad_alloc&) {
+      // Out of memory (the parent checked what one ensemble needs, but memory is shared): the
+      // stops reported so far are all there is, a lower bound if too few.
+    } catch (const std::length_error&) {
     } catch (const std::exception& x) {
       const std::string what = x.what();
       PilotMark error{-1.0, static_cast<double>(what.size()), 0, 0, 0, 0, 0, 0};
@@ -446,11 +1002,7 @@ WeightedCost weighted_cost(const DsmcConfig& d, std::uint64_t seed) {
   const bool heated = d.thermostat == Thermostat::kWhiteNoise && d.beta > 0.0;
   const std::vector<PilotMark> marks = pilot_marks(d, seed);
   WeightedCost cost;
-  // A pilot that did not pass its first stop (1/64 of t_end at most) in kPilotSeconds: the run
-  // takes longer than kPilotStops times that, all that is known.
-  WeightedCost stuck;
-  stuck.stuck = true;
-  stuck.seconds = kPilotSeconds * kPilotStops;
+  const WeightedCost stuck = WeightedCost::lower_bound();
   if (marks.size() < 2) return stuck;
   const PilotMark& last = marks.back();
   // The rates of the pilot's second half (the particle number has left its initial value).
@@ -622,10 +1174,28 @@ std::string format_samples(double x) {
   return buf;
 }
 
+// The most events of one kind an ensemble counts: its counters are 64-bit (and a run of that
+// many events would take centuries).
+constexpr double kMaxEvents = 0x1p63;
+
 bool finite(const RunEstimate& e) {
   return std::isfinite(e.collisions) && std::isfinite(e.fictitious) && std::isfinite(e.kicks) &&
          std::isfinite(e.seconds) && e.collisions >= 0 && e.fictitious >= 0 && e.kicks >= 0 &&
          e.seconds >= 0;
+}
+
+// Why the cost of `e` cannot be bounded, or "" if it can: not finite, or more events of a kind
+// per ensemble than the engines' counters hold.
+std::string unbounded(const RunEstimate& e) {
+  if (!finite(e)) return "overflow";
+  const double N = std::max<double>(1.0, static_cast<double>(e.ensembles));
+  const std::pair<const char*, double> counts[] = {
+      {"collisions", e.collisions}, {"fictitious candidates", e.fictitious}, {"kicks", e.kicks}};
+  for (const auto& [what, total] : counts)
+    if (!(total / N < kMaxEvents))
+      return "the run would take " + format_samples(total / N) + " " + what +
+             " per ensemble, more than its 64-bit event counters hold (2^63)";
+  return "";
 }
 
 RunEstimate estimate_unchecked(const Config& config, unsigned threads, bool pilots) {
@@ -637,17 +1207,26 @@ RunEstimate estimate_unchecked(const Config& config, unsigned threads, bool pilo
   double ns = 0.0, serial_ns = 0.0;  // one thread, all ensembles; and not parallel at all
   if (config.model == Model::kDsmc) {
     const DsmcConfig& d = config.dsmc;
-    DsmcEvents one = dsmc_events(d, N);
+    DsmcEvents one = d.general() ? gas_events(d) : dsmc_events(d);
+    dsmc_time(config, N, one);
     serial_ns = one.serial_ns;
     if (d.weights.swpm && pilots) {
       // The constant-weight events first: a config whose cost is not finite gets no pilot.
       e.collisions = one.collisions, e.fictitious = one.candidates, e.kicks = one.kicks;
       e.seconds = one.ns;
       if (!finite(e)) return e;
-      const WeightedCost pilot = weighted_cost(d, config.seed);
-      const double observe_ns = one.ns - one.candidates * ns_per_dsmc_event(
-                                                              static_cast<double>(d.particles),
-                                                              d.majorant);
+      // The pilot builds ensemble 0 of the run: if that alone does not fit in the memory
+      // available (N_max = 10^9 needs over 100 GB), it is not run (the bare allocation
+      // failure used to end `estimate`), and the time is a lower bound.
+      Config one_ensemble = config;
+      one_ensemble.ensembles = 1;
+      one_ensemble.shard = Shard{};
+      one_ensemble.checkpoint.every_seconds = 0.0;
+      const double need = static_cast<double>(estimate_memory(one_ensemble, 1));
+      const double have = static_cast<double>(available_memory());
+      const WeightedCost pilot =
+          have > 0 && need > 0.9 * have ? WeightedCost::lower_bound() : weighted_cost(d, config.seed);
+      const double observe_ns = one.ns - one.events_ns;
       // A stuck pilot: the events of constant weights stand in, and the time is a lower bound,
       // the larger of the pilot's and that of the constant-weight events.
       e.lower_bound = pilot.stuck;
@@ -693,7 +1272,8 @@ RunEstimate estimate_unchecked(const Config& config, unsigned threads, bool pilo
                       " samples per ensemble, more than its 64-bit sample clock counts (2^63)"};
   }
   const double workers = std::min<double>(e.threads, std::max(N, 1.0));
-  e.seconds = ns * 1e-9 / (workers > 1 ? workers * kParallelEfficiency : 1.0) + serial_ns * 1e-9;
+  e.seconds = ns * 1e-9 / (workers > 1 ? workers * kParallelEfficiency : 1.0) + serial_ns * 1e-9 +
+              kFixedSeconds;
   return e;
 }
 
@@ -724,6 +1304,32 @@ std::vector<Suspect> suspects(const Config& config) {
       s.push_back({"dsmc.steps", static_cast<double>(d.steps), [](Config& c) {
                      c.dsmc.steps = std::max<std::uint64_t>(1, c.dsmc.observations());
                    }});
+    // The general gas: the species' masses and diameters, the spins' temperature and inertia.
+    if (d.species_written)
+      for (std::size_t a = 0; a < d.species.size(); ++a) {
+        const std::string key = "dsmc.species[" + std::to_string(a) + "].";
+        s.push_back({key + "mass", d.species[a].mass,
+                     [a](Config& c) { c.dsmc.species[a].mass = 1.0; }});
+        s.push_back({key + "diameter", d.species[a].diameter,
+                     [a](Config& c) { c.dsmc.species[a].diameter = 1.0; }});
+      }
+    if (d.roughness.on) {
+      s.push_back({"dsmc.initial.rotational_temperature", d.initial_rotational_temperature,
+                   [](Config& c) {
+                     c.dsmc.initial_rotational_temperature = c.dsmc.initial_temperature;
+                   }});
+      const double uniform = d.dimension == 2 ? 0.5 : 0.4;  // a uniform disk or sphere
+      if (d.roughness.inertia_per_species) {
+        for (std::size_t a = 0; a < d.species.size(); ++a)
+          s.push_back({"dsmc.roughness.inertia." + d.species[a].name, d.species[a].inertia,
+                       [a, uniform](Config& c) { c.dsmc.species[a].inertia = uniform; }});
+      } else {
+        s.push_back({"dsmc.roughness.inertia", d.roughness.inertia, [uniform](Config& c) {
+                       c.dsmc.roughness.inertia = uniform;
+                       for (auto& sp : c.dsmc.species) sp.inertia = uniform;
+                     }});
+      }
+    }
   } else if (config.model == Model::kIntruder) {
     const IntruderConfig& c = config.intruder;
     s.push_back({"intruder.sample_every", c.sample_every,
@@ -759,30 +1365,26 @@ std::string cut(std::string s) {
 
 }  // namespace
 
-RunEstimate estimate_run(const Config& config, unsigned threads) {
-  std::string why = "overflow";
-  try {
-    const RunEstimate e = estimate_unchecked(config, threads, true);
-    if (finite(e)) return e;
-  } catch (const NotFinite& x) {
-    why = x.why;
-  }
-  auto closed_form_finite = [&](const Config& c) {
+namespace {
+
+// Throws ConfigError naming the key to blame for `why`: the first (most extreme) whose tame
+// value alone gives a bounded estimate, without the pilots (SWPM, needle) that the search
+// would otherwise repeat.
+[[noreturn]] void refuse_unbounded(const Config& config, unsigned threads, const std::string& why) {
+  auto closed_form_bounded = [&](const Config& c) {
     try {
-      return finite(estimate_unchecked(c, threads, false));
+      return unbounded(estimate_unchecked(c, threads, false)).empty();
     } catch (const NotFinite&) {
       return false;
     }
   };
   // Only a pilot (SWPM) failed: no single key is to blame.
-  if (closed_form_finite(config))
+  if (closed_form_bounded(config))
     throw ConfigError("the run's cost cannot be estimated: " + why);
-  // Which key: the first (most extreme) whose tame value alone gives a finite estimate, without
-  // the pilots (SWPM, needle) that the search would otherwise repeat.
   for (const Suspect& s : suspects(config)) {
     Config tamed = config;
     s.tame(tamed);
-    if (closed_form_finite(tamed))
+    if (closed_form_bounded(tamed))
       throw ConfigError(cut(s.key + " = " + format_real(s.value)) + ": " +
                         (why == "overflow" ? "the run's cost cannot be estimated (overflow)"
                                            : why) +
@@ -790,6 +1392,30 @@ RunEstimate estimate_run(const Config& config, unsigned threads) {
   }
   throw ConfigError("the run's cost estimate is not finite (" + why +
                     "); check the config's extreme values");
+}
+
+}  // namespace
+
+void check_cost_bounded(const Config& config) {
+  std::string why;
+  try {
+    why = unbounded(estimate_unchecked(config, 1, false));
+  } catch (const NotFinite& x) {
+    why = x.why;
+  }
+  if (!why.empty()) refuse_unbounded(config, 1, why);
+}
+
+RunEstimate estimate_run(const Config& config, unsigned threads) {
+  std::string why = "overflow";
+  try {
+    const RunEstimate e = estimate_unchecked(config, threads, true);
+    why = unbounded(e);
+    if (why.empty()) return e;
+  } catch (const NotFinite& x) {
+    why = x.why;
+  }
+  refuse_unbounded(config, threads, why);
 }
 
 std::string describe(const RunEstimate& e) {

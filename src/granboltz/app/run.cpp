@@ -27,8 +27,6 @@
 
 namespace granboltz {
 
-namespace {
-
 std::uint64_t available_memory() {
   std::ifstream in("/proc/meminfo");
   std::string key;
@@ -39,6 +37,8 @@ std::uint64_t available_memory() {
   const long pages = sysconf(_SC_PHYS_PAGES), size = sysconf(_SC_PAGE_SIZE);
   return pages > 0 && size > 0 ? static_cast<std::uint64_t>(pages) * size : 0;
 }
+
+namespace {
 
 std::string utc_now() {
   const std::time_t t = std::time(nullptr);
@@ -145,10 +145,19 @@ std::uint64_t estimate_memory(const Config& config, unsigned threads) {
       if (d.general()) bytes += t * static_cast<double>(d.particles) * sizeof(Particle);
     }
     if (d.majorant == MajorantKind::kPairwise) bytes += t * static_cast<double>(d.particles) * 8.0;
-    const double scalars = kNumScalars + d.moments;
-    bytes += t * rows * (scalars * 8.0 + shells * 8.0);      // per-ensemble observations
-    bytes += rows * scalars * 2.0 * sizeof(ExactSum) * 2.0;  // accumulators and output copy
-    bytes += rows * shells * 24.0 * 2.0;
+    // Per ensemble under way, its rows: the scalars and speed moments of the gas (and of each
+    // species, and T_rot), the histograms' counts (and, SWPM, their weights).
+    const double sets = 1.0 + (d.species_written ? static_cast<double>(d.species.size()) : 0.0);
+    const double scalars = (kNumScalars + d.moments) * sets + (d.roughness.on ? 1.0 : 0.0);
+    bytes += t * rows * (scalars * 8.0 + shells * 8.0 * (d.weights.swpm ? 2.0 : 1.0));
+    // The record: every moment sum and count its layout declares (found by building it without
+    // allocating: the steady histogram's exact sums and SWPM's weight per row and shell, 1.1 kB
+    // each, used to be left out, and a run said 317 MiB and took 23 GB), and the output's copy of
+    // it while it is written.
+    Record::Sizing size;
+    layout_of(config);
+    bytes += 2.0 * (static_cast<double>(size.moments) * sizeof(Moments2) +
+                    static_cast<double>(size.counts) * (sizeof(std::uint64_t) + sizeof(uint128)));
     bytes += static_cast<double>(config.last_ensemble() - config.first_ensemble()) * 200.0;
     // A checkpoint is built in memory (h5/hdf5_io.cpp): 32 bytes per particle in progress, and
     // a copy while it is written out.
@@ -174,6 +183,8 @@ void run_to_file(const Config& config, const std::string& path, const DriverOpti
                       " of memory on " + std::to_string(threads) + " thread(s), but only " +
                       human_bytes(static_cast<double>(have)) +
                       " is available; reduce particles, threads or observation times");
+  // A run whose cost has no bound (it would never end) is refused, quiet or not.
+  check_cost_bounded(config);
 
   const std::string checkpoint = path + ".checkpoint";
   // Create the output first, so that an unwritable path fails before hours of work, and a second

@@ -7,6 +7,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <deque>
 #include <limits>
 #include <map>
@@ -16,8 +17,6 @@
 namespace granboltz {
 
 namespace {
-
-constexpr std::uint64_t kMaxInteger = std::uint64_t{1} << 53;
 
 std::string join(const std::vector<std::string>& v, const std::string& sep) {
   std::string out;
@@ -330,6 +329,77 @@ std::string format_real(double x) {
   return std::string(buf, res.ptr);
 }
 
+namespace {
+
+// Whether `s` is a decimal number, [+-]digits[.digits][(e|E)[+-]digits] with at least one
+// digit before the exponent, whose exact value is a whole number; `negative` tells whether it is
+// below zero. The value is judged from the digits, not from a double: 1e-400 rounds to 0 and
+// 1.0000000000000001 to 1, and neither is an integer.
+bool whole_decimal(const std::string& s, bool& negative) {
+  std::size_t i = 0;
+  negative = false;
+  if (i < s.size() && (s[i] == '+' || s[i] == '-')) negative = s[i++] == '-';
+  std::string digits;      // the significand's digits, the point removed
+  long long fraction = 0;  // digits after the point
+  bool point = false;
+  for (; i < s.size() && (std::isdigit(static_cast<unsigned char>(s[i])) || s[i] == '.'); ++i) {
+    if (s[i] == '.') {
+      if (point) return false;
+      point = true;
+    } else {
+      digits += s[i];
+      fraction += point;
+    }
+  }
+  if (digits.empty()) return false;
+  long long exponent = 0;
+  if (i < s.size() && (s[i] == 'e' || s[i] == 'E')) {
+    ++i;
+    bool minus = false;
+    if (i < s.size() && (s[i] == '+' || s[i] == '-')) minus = s[i++] == '-';
+    if (i == s.size()) return false;
+    for (; i < s.size() && std::isdigit(static_cast<unsigned char>(s[i])); ++i)
+      exponent = std::min(exponent * 10 + (s[i] - '0'), 1'000'000'000LL);
+    if (minus) exponent = -exponent;
+  }
+  if (i != s.size()) return false;
+  const std::size_t last = digits.find_last_not_of('0');
+  if (last == std::string::npos) {  // zero, however written
+    negative = false;
+    return true;
+  }
+  const long long trailing_zeros = static_cast<long long>(digits.size() - 1 - last);
+  return exponent - fraction + trailing_zeros >= 0;
+}
+
+}  // namespace
+
+std::uint64_t parse_integer(const std::string& s, const std::string& name,
+                            const IntegerRange& range, const std::string& text) {
+  auto refuse = [&](const std::string& why) { throw ConfigError(name + " = " + text + ": " + why); };
+  auto out_of_range = [&](bool above_max_integer) {
+    if (above_max_integer && range.max >= kMaxInteger) refuse("too large (> 2^53)");
+    refuse(range.allowed);
+  };
+  std::uint64_t v = 0;
+  // Plain digits are read exactly, so that 2^53 + 1 is not silently rounded to 2^53.
+  if (!s.empty() && s.find_first_not_of("0123456789") == std::string::npos) {
+    const auto res = std::from_chars(s.data(), s.data() + s.size(), v);
+    if (res.ec == std::errc::result_out_of_range || v > kMaxInteger) out_of_range(true);
+  } else {
+    // 4096 as well as 1e7, 1.0e+4 or 2.0: a decimal whose value is exactly whole.
+    bool negative = false;
+    if (!whole_decimal(s, negative)) refuse("not an integer");
+    if (negative) out_of_range(false);
+    const double x = std::strtod(s.c_str(), nullptr);
+    // A double at 2^53 may be a rounded larger integer: only smaller ones are exact.
+    if (!(x < static_cast<double>(kMaxInteger))) out_of_range(true);
+    v = static_cast<std::uint64_t>(x);
+  }
+  if (v < range.min || v > range.max) out_of_range(false);
+  return v;
+}
+
 Section::Section(const YAML::Node& node, std::string path) : node_(node), path_(std::move(path)) {
   if (!node_ || !node_.IsMap())
     throw ConfigError((path_.empty() ? std::string("config") : path_) + " = " + shown(node_) +
@@ -378,41 +448,28 @@ double Section::real(const std::string& key, double fallback) const {
   return has(key) ? real_of(at(key, "a number", true), key) : fallback;
 }
 
-std::uint64_t Section::integer_of(const YAML::Node& n, const std::string& key) const {
+std::uint64_t Section::integer_of(const YAML::Node& n, const std::string& key,
+                                  const IntegerRange& range) const {
   if (!n.IsScalar()) throw ConfigError(name(key) + " = " + shown(n) + ": must be an integer");
   require_plain_number(n, name(key), "an integer");
-  const std::string& s = n.Scalar();
-  const std::string text = shown(n);
-  // Plain digits are read exactly, so that 2^53 + 1 is not silently rounded to 2^53.
-  if (!s.empty() && s.find_first_not_of("0123456789") == std::string::npos) {
-    std::uint64_t v = 0;
-    const auto res = std::from_chars(s.data(), s.data() + s.size(), v);
-    if (res.ec == std::errc::result_out_of_range || v > kMaxInteger)
-      throw ConfigError(name(key) + " = " + text + ": too large (> 2^53)");
-    return v;
-  }
-  // Accept 4096 as well as 1e7 or 1.0e+4 when the value is a whole number.
-  double x = 0;
-  try {
-    x = n.as<double>();
-  } catch (const YAML::Exception&) {
-    throw ConfigError(name(key) + " = " + text + ": not an integer");
-  }
-  if (!std::isfinite(x) || x != std::floor(x))
-    throw ConfigError(name(key) + " = " + text + ": not an integer");
-  if (x < 0) throw ConfigError(name(key) + " = " + text + ": must be >= 0");
-  // A double at 2^53 may be a rounded larger integer: only smaller ones are exact.
-  if (x >= static_cast<double>(kMaxInteger))
-    throw ConfigError(name(key) + " = " + text + ": too large (> 2^53)");
-  return static_cast<std::uint64_t>(x);
+  return parse_integer(n.Scalar(), name(key), range, shown(n));
 }
 
 std::uint64_t Section::integer(const std::string& key) const {
-  return integer_of(at(key, "an integer", false), key);
+  return integer(key, IntegerRange{});
 }
 
 std::uint64_t Section::integer(const std::string& key, std::uint64_t fallback) const {
-  return has(key) ? integer_of(at(key, "an integer", true), key) : fallback;
+  return integer(key, fallback, IntegerRange{});
+}
+
+std::uint64_t Section::integer(const std::string& key, const IntegerRange& range) const {
+  return integer_of(at(key, "an integer", false), key, range);
+}
+
+std::uint64_t Section::integer(const std::string& key, std::uint64_t fallback,
+                               const IntegerRange& range) const {
+  return has(key) ? integer_of(at(key, "an integer", true), key, range) : fallback;
 }
 
 std::string Section::choice_of(const YAML::Node& n, const std::string& key,

@@ -24,6 +24,25 @@ class ConfigError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// The largest integer a config takes: every integer up to it is exact in a double.
+inline constexpr std::uint64_t kMaxInteger = std::uint64_t{1} << 53;
+
+/// The values an integer key allows, and the words that say so: a value outside them, a
+/// negative one included, is refused with "<key> = <value>: <allowed>", so that -2 and 0 get
+/// the same message.
+struct IntegerRange {
+  std::uint64_t min = 0;
+  std::uint64_t max = kMaxInteger;  ///< above 2^53 the refusal says "too large (> 2^53)"
+  std::string allowed = "must be >= 0";
+};
+
+/// An integer as a config or the command line writes it: plain digits (read exactly), or a
+/// decimal number that is exactly whole (1e7, 1.0e+4, 2.0); anything else (1.5, 1e-400, which a
+/// double would round to 0, 0x10, inf) is "not an integer". Throws ConfigError "<name> = <text>:
+/// ..." with `range.allowed` for a value outside the range.
+std::uint64_t parse_integer(const std::string& text, const std::string& name,
+                            const IntegerRange& range, const std::string& shown_text);
+
 class Section {
  public:
   /// `node` must be a mapping (a null is refused); `path` is its dotted key, "" at the top.
@@ -38,6 +57,10 @@ class Section {
   double real(const std::string& key, double fallback) const;
   std::uint64_t integer(const std::string& key) const;  ///< required integer >= 0
   std::uint64_t integer(const std::string& key, std::uint64_t fallback) const;
+  /// A required integer in `range`, or with a fallback when left out.
+  std::uint64_t integer(const std::string& key, const IntegerRange& range) const;
+  std::uint64_t integer(const std::string& key, std::uint64_t fallback,
+                        const IntegerRange& range) const;
   std::string choice(const std::string& key, const std::vector<std::string>& allowed) const;
   std::string choice(const std::string& key, const std::vector<std::string>& allowed,
                      const std::string& fallback) const;
@@ -64,7 +87,8 @@ class Section {
   /// The value of a written key that is not null; `what` is what it must be ("a number").
   YAML::Node at(const std::string& key, const std::string& what, bool has_default) const;
   double real_of(const YAML::Node& n, const std::string& key) const;
-  std::uint64_t integer_of(const YAML::Node& n, const std::string& key) const;
+  std::uint64_t integer_of(const YAML::Node& n, const std::string& key,
+                           const IntegerRange& range) const;
   std::string choice_of(const YAML::Node& n, const std::string& key,
                         const std::vector<std::string>& allowed) const;
   YAML::Node node_;

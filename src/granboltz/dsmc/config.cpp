@@ -160,9 +160,9 @@ void read_roughness(const Section& s, DsmcConfig& c) {
 
 DsmcConfig read_dsmc(const Section& s) {
   DsmcConfig c;
-  c.particles = s.integer("particles");
-  s.check(c.particles >= 2, "particles", static_cast<double>(c.particles), "must be >= 2");
-  c.dimension = s.choice("dimension", {"2", "3"}, "3") == "2" ? 2 : 3;
+  c.particles = s.integer("particles", {2, kMaxInteger, "must be >= 2"});
+  // An integer key like the others: a quoted '2' or a !!str 2 is a string and refused.
+  c.dimension = static_cast<int>(s.integer("dimension", 3, {2, 3, "must be one of 2, 3"}));
   c.kernel.area = c.dimension == 2 ? 2.0 * M_PI : 4.0 * M_PI;
   // Hard disks need the impact law (uniform directions are another model there); in d = 3 the
   // two are one law and the papers' name stays the default.
@@ -261,8 +261,7 @@ DsmcConfig read_dsmc(const Section& s) {
     if (!s.has("steps"))
       throw ConfigError(s.name("steps") + ": missing (required by scheme " + scheme +
                         "; the time step is t_end / steps)");
-    c.steps = s.integer("steps");
-    s.check(c.steps >= 1, "steps", static_cast<double>(c.steps), "must be >= 1");
+    c.steps = s.integer("steps", {1, kMaxInteger, "must be >= 1"});
     s.check(is_multiple(c.observe_every, c.time_step()), "observe_every", c.observe_every,
             "must be a whole multiple of the time step t_end/steps = " +
                 format_real(c.time_step()));
@@ -270,9 +269,7 @@ DsmcConfig read_dsmc(const Section& s) {
 
   if (s.has("histogram")) {
     const Section h = s.sub("histogram");
-    c.histogram.shells = h.integer("shells");
-    h.check(c.histogram.shells >= 1 && c.histogram.shells <= 1'000'000, "shells",
-            static_cast<double>(c.histogram.shells), "must satisfy 1 <= shells <= 10^6");
+    c.histogram.shells = h.integer("shells", {1, 1'000'000, "must satisfy 1 <= shells <= 10^6"});
     c.histogram.radius = h.real("radius");
     h.check(c.histogram.radius > 0, "radius", c.histogram.radius, "must be > 0");
     // The edges are radius * k / shells: beyond about 1e302 the product overflows to infinity.
@@ -296,10 +293,8 @@ DsmcConfig read_dsmc(const Section& s) {
   // A user's run gets the true bound; the reproduction profiles ask for `paper` explicitly.
   c.majorant_update = s.choice("majorant_update", {"paper", "strict"}, "strict") == "strict"
                           ? MajorantUpdate::kStrict : MajorantUpdate::kPaper;
-  const std::uint64_t moments = s.integer("moments", 4);
-  s.check(moments <= static_cast<std::uint64_t>(kMaxMoments), "moments",
-          static_cast<double>(moments), "must satisfy 0 <= moments <= 16");
-  c.moments = static_cast<int>(moments);
+  c.moments = static_cast<int>(s.integer(
+      "moments", 4, {0, static_cast<std::uint64_t>(kMaxMoments), "must satisfy 0 <= moments <= 16"}));
   if (s.has("steady_from")) {
     c.steady = true;
     c.steady_from = s.real("steady_from");
@@ -317,12 +312,10 @@ DsmcConfig read_dsmc(const Section& s) {
     c.weights.kappa = w.real("kappa");
     w.check(c.weights.kappa >= 0 && c.weights.kappa <= 1e6, "kappa", c.weights.kappa,
             "must satisfy 0 <= kappa <= 10^6");
-    c.weights.max_particles = w.integer("max_particles");
-    w.check(c.weights.max_particles >= c.particles && c.weights.max_particles >= 16 &&
-                c.weights.max_particles <= 1'000'000'000,
-            "max_particles", static_cast<double>(c.weights.max_particles),
-            "must satisfy max(16, dsmc.particles = " + std::to_string(c.particles) +
-                ") <= max_particles <= 10^9");
+    c.weights.max_particles = w.integer(
+        "max_particles", {std::max<std::uint64_t>(16, c.particles), 1'000'000'000,
+                          "must satisfy max(16, dsmc.particles = " + std::to_string(c.particles) +
+                              ") <= max_particles <= 10^9"});
     {
       const std::string r = w.choice("reduction", {"unbiased", "energy", "heat_flux"}, "unbiased");
       c.weights.reduction = r == "heat_flux" ? Reduction::kHeatFlux

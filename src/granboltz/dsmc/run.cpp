@@ -217,7 +217,7 @@ struct InProgress {
   }
   throw std::runtime_error(std::string("dsmc: ") + name + " = " + format_real(value) +
                            " at t = " + format_real(t) + " in ensemble " + std::to_string(e) +
-                           ": the simulation overflowed; are dsmc.beta, dsmc.initial_temperature "
+                           ": the simulation overflowed; are dsmc.beta, dsmc.initial.temperature "
                            "or dsmc.kernel.C far too large?");
 }
 

@@ -4,11 +4,26 @@
 
 namespace granboltz {
 
+namespace {
+thread_local Record::Sizing* sizing = nullptr;
+}  // namespace
+
+Record::Sizing::Sizing() : previous_(sizing) { sizing = this; }
+Record::Sizing::~Sizing() { sizing = previous_; }
+
 void Record::declare_moments(const std::string& name, std::size_t size) {
+  if (sizing) {
+    sizing->moments += size;
+    return;
+  }
   moments_[name].assign(size, Moments2{});
 }
 
 void Record::declare_counts(const std::string& name, std::size_t size) {
+  if (sizing) {
+    sizing->counts += size;
+    return;
+  }
   counts_[name] = Counts{std::vector<std::uint64_t>(size, 0), std::vector<uint128>(size, 0)};
 }
 

@@ -19,6 +19,21 @@ namespace granboltz {
 
 class Record {
  public:
+  /// While one is alive on this thread, declare_moments and declare_counts allocate nothing and
+  /// add their sizes here instead: what a layout will hold, found by building it (the cost
+  /// estimate and the memory check use it, so they count every accumulator a layout declares).
+  struct Sizing {
+    std::uint64_t moments = 0;  ///< moment sums (Moments2)
+    std::uint64_t counts = 0;   ///< integer counts (with their squares)
+    Sizing();
+    ~Sizing();
+    Sizing(const Sizing&) = delete;
+    Sizing& operator=(const Sizing&) = delete;
+
+   private:
+    Sizing* previous_;
+  };
+
   /// Declares a group of `size` moment sums stored at /accumulators/<name>.
   void declare_moments(const std::string& name, std::size_t size);
   /// Declares `size` integer counts (and their squares) stored at /accumulators/<name>.

@@ -16,9 +16,7 @@ VelocityHistogramSpec read_histogram(const Section& s, const std::string& key) {
   VelocityHistogramSpec h;
   if (!s.has(key)) return h;
   const Section hs = s.sub(key);
-  h.bins = hs.integer("bins");
-  hs.check(h.bins >= 1 && h.bins <= 10'000'000, "bins", static_cast<double>(h.bins),
-           "must satisfy 1 <= bins <= 10^7");
+  h.bins = hs.integer("bins", {1, 10'000'000, "must satisfy 1 <= bins <= 10^7"});
   h.range = hs.real("range");
   hs.check(h.range > 0, "range", h.range, "must be > 0");
   // The bins span 2 range: beyond about 9e307 that overflows and the edges become infinite.
@@ -40,8 +38,7 @@ void read_common(const Section& s, double& alpha, double& density, std::uint64_t
   s.check(alpha >= 0 && alpha <= 1, "alpha", alpha, "must satisfy 0 <= alpha <= 1");
   density = s.real("density", 1.0);
   s.check(density > 0, "density", density, "must be > 0");
-  collisions = s.integer("collisions");
-  s.check(collisions >= 1, "collisions", static_cast<double>(collisions), "must be >= 1");
+  collisions = s.integer("collisions", {1, kMaxInteger, "must be >= 1"});
   sample_every = s.real("sample_every", 0.0);
   s.check(sample_every >= 0, "sample_every", sample_every, "must be >= 0 (0: mean free time)");
   warmup = s.integer("warmup", collisions / 10);
@@ -88,9 +85,7 @@ IntruderConfig read_intruder(const Section& s) {
   c.method = s.choice("method", {"gillespie", "dsmc"}, "gillespie") == "dsmc"
                  ? IntruderMethod::kDsmc
                  : IntruderMethod::kGillespie;
-  c.bath_particles = s.integer("bath_particles", 1000);
-  s.check(c.bath_particles >= 1, "bath_particles", static_cast<double>(c.bath_particles),
-          "must be >= 1");
+  c.bath_particles = s.integer("bath_particles", 1000, {1, kMaxInteger, "must be >= 1"});
   const std::string refresh = s.choice("bath_refresh", {"tested", "collided", "none"}, "tested");
   c.bath_refresh = refresh == "collided" ? BathRefresh::kCollided
                    : refresh == "none"   ? BathRefresh::kNone
