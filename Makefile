@@ -66,12 +66,13 @@ docs: deps build
 
 ## make test-sanitize: the C++ suite built with AddressSanitizer + UndefinedBehaviorSanitizer
 ## (build-asan; every finding, leaks included, fails the test), without the tests labelled slow
+## or timing (wall times compared with the constants of the optimised build)
 SANITIZE_BUILD ?= build-asan
 test-sanitize: deps
 	cmake -S . -B $(SANITIZE_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGRANBOLTZ_SANITIZE=ON \
 	  -DGRANBOLTZ_BENCH=OFF
 	cmake --build $(SANITIZE_BUILD) -j $(JOBS)
-	cd $(SANITIZE_BUILD) && ctest --output-on-failure -j $(JOBS) -LE slow
+	cd $(SANITIZE_BUILD) && ctest --output-on-failure -j $(JOBS) -LE "slow|timing"
 
 ## make test-slurm: the SLURM profile against a one-node SLURM started here (munge, slurmctld,
 ## slurmd; installs slurm-wlm and munge): GRW05 tail shards, merges and a table through the
