@@ -28,7 +28,7 @@ Modules, one concern each (import the one you need; nothing heavy is imported he
                  (python -m granboltz.study run STUDY.yaml); Study(folder).table()
     report       the reproduction report (subpackage)
     inprocess    the simulator in this process (extension granboltz._core): simulate, Simulation,
-                 ConfigError, also on the package itself
+                 ConfigError, SimulationBusyError, also on the package itself
 """
 
 __version__ = "0.1.0"
@@ -49,7 +49,7 @@ def __getattr__(name):
         from .io import RunReadError
 
         return RunReadError
-    if name in ("simulate", "Simulation", "ConfigError"):
+    if name in ("simulate", "Simulation", "ConfigError", "SimulationBusyError"):
         # The compiled extension granboltz._core, loaded on first use (module granboltz.inprocess).
         import importlib
 
