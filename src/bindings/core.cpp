@@ -98,8 +98,11 @@ struct SigtermGuard {  // on_sigterm while at least one run is under way, if SIG
   ~SigtermGuard() {
     std::lock_guard<std::mutex> lock(g_term_mutex);
     if (--g_term_users > 0 || !g_term_installed) return;
-    sigaction(SIGTERM, &g_term_previous, nullptr);
     g_term_installed = false;
+    // Only if it is still ours: a handler set meanwhile (signal.signal in another thread) stays.
+    struct sigaction current {};
+    if (sigaction(SIGTERM, nullptr, &current) == 0 && current.sa_handler == on_sigterm)
+      sigaction(SIGTERM, &g_term_previous, nullptr);
   }
 };
 
@@ -269,9 +272,11 @@ class Simulation {
   }
 
   /// As a checkpoint is written: the config with its hash and a digest of every dataset, which
-  /// restore() checks.
-  void save(const std::string& path) const {
+  /// restore() checks. Never over `config_path`, the file the config was read from ("" if none),
+  /// as simulate never writes over its config.
+  void save(const std::string& path, const std::string& config_path) const {
     Use use(*this, "save");
+    check_output_path(path, {config_path});
     H5Writer out(path);
     const std::string text = config_->to_yaml(false);
     out.attr("/", "kind", std::string("simulation"));
@@ -291,9 +296,12 @@ class Simulation {
     Use use(*this, "advance");
     const DsmcConfig& d = config_->dsmc;
     const double now = this->now();
-    if (!std::isfinite(t) || t < now)
-      throw py::value_error("advance(" + format(t) + "): t must be finite and >= time = " +
-                            format(now));
+    // Not beyond t_end: the engines' states hold t <= t_end (a saved one beyond would not
+    // restore), and an advance to 1e308 would never end.
+    if (!std::isfinite(t) || t < now || t > d.t_end)
+      throw py::value_error("advance(" + format(t) + "): t must be finite, >= time = " +
+                            format(now) + " and <= t_end = " + format(d.t_end) +
+                            " (the config's dsmc.t_end)");
     if (d.scheme != Scheme::kNoSplit) {
       const double k = t / d.time_step();
       if (std::fabs(k - std::round(k)) > 1e-9 * std::max(1.0, std::fabs(k)))
@@ -539,7 +547,7 @@ PYBIND11_MODULE(_core, m) {
       .def(py::init<const std::string&, const std::string&, std::uint64_t>(), py::arg("text"),
            py::arg("origin"), py::arg("ensemble"))
       .def_static("restore", &Simulation::restore, py::arg("path"))
-      .def("save", &Simulation::save, py::arg("path"))
+      .def("save", &Simulation::save, py::arg("path"), py::arg("config_path"))
       .def("advance", &Simulation::advance, py::arg("t"), py::arg("interruptible"))
       .def_property_readonly("time", &Simulation::time)
       .def_property_readonly("particle_count", &Simulation::particle_count)

@@ -165,6 +165,37 @@ def test_simulate_refuses_its_config_as_output(tmp_path, spelling, monkeypatch):
     assert sorted(os.listdir(tmp_path)) == names
 
 
+def test_save_never_replaces_the_config_it_was_made_from(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    cfg = tmp_path / "c.yaml"
+    cfg.write_text(yaml.safe_dump(PLAIN))
+    os.link(cfg, "h.yaml")
+    before = cfg.read_bytes()
+    sim = granboltz.Simulation("c.yaml")
+    for path in ("c.yaml", "./c.yaml", "h.yaml", b"c.yaml"):
+        with pytest.raises(RuntimeError, match="the same file"):
+            sim.save(path)
+    assert cfg.read_bytes() == before and sorted(os.listdir()) == ["c.yaml", "h.yaml"]
+    sim.save("state.h5")  # another file, and a restored one may be saved over its own file
+    back = granboltz.Simulation.restore("state.h5")
+    back.advance(0.25)
+    back.save("state.h5")
+    assert granboltz.Simulation.restore("state.h5").time == 0.25
+
+
+def test_advance_stops_at_t_end_so_that_a_saved_state_restores(tmp_path):
+    # Beyond t_end the engines' invariant t <= t_end breaks: such a state was saved but refused
+    # by restore ("time outside [0, t_end]"), and advance(1e308) never ended.
+    sim = granboltz.Simulation(PLAIN)
+    for t in (0.75, 1e308):
+        with pytest.raises(ValueError, match=r"<= t_end = 0\.5"):
+            sim.advance(t)
+    assert sim.time == 0.0
+    sim.advance(0.5)
+    sim.save(tmp_path / "end.h5")
+    assert granboltz.Simulation.restore(tmp_path / "end.h5").time == 0.5
+
+
 # ------------------------------------------------------------------------- restore's checks
 def saved(tmp_path, config, t=0.25, name="state.h5"):
     sim = granboltz.Simulation(config)

@@ -286,10 +286,11 @@ class Simulation:
     """
 
     def __init__(self, config, ensemble=0, _core_sim=None):
+        self._config_file = b""  # the config's file, which save() never replaces
         if _core_sim is not None:
             self._sim = _core_sim
         else:
-            text, origin, _ = _config_text(config)
+            text, origin, self._config_file = _config_text(config)
             ensemble = _integer("ensemble", ensemble, 0, 2**64 - 1,
                                 "0 <= ensemble < the config's ensembles")
             self._sim = _core.Simulation(text, origin, ensemble)
@@ -327,13 +328,13 @@ class Simulation:
     def save(self, path):
         """Write the engine's state (particles, streams, majorant, counts), the config with its
         hash and a digest of the datasets to the HDF5 file `path` (atomically: a temporary name,
-        renamed when complete; never through a link, over a directory or a FIFO: RuntimeError
-        naming the path)."""
-        self._sim.save(_path(path, "save path")[1])
+        renamed when complete; never through a link, over a directory, a FIFO or the config file
+        this Simulation was made from: RuntimeError naming the path)."""
+        self._sim.save(_path(path, "save path")[1], self._config_file)
 
     def advance(self, t):
-        """Advance to the absolute time t (a real number >= time; for the euler and strang
-        schemes a multiple of dt = t_end/steps). The GIL is released meanwhile, and any other
+        """Advance to the absolute time t (a real number, time <= t <= t_end; for the euler and
+        strang schemes a multiple of dt = t_end/steps). The GIL is released meanwhile, and any other
         call on this object from another thread raises SimulationBusyError until advance
         returns. Ctrl-C (SIGINT, in the main thread, under Python's default handler; an ignored
         SIGINT stays ignored) stops at the engine's next safe point and raises
