@@ -29,6 +29,8 @@ import sys
 import tempfile
 import time
 
+import python_api  # the family `python`: granboltz.simulate and Simulation (tests/fuzz/python_api.py)
+
 HERE = pathlib.Path(__file__).resolve().parent
 ROOT = HERE.parents[1]
 BASE = ROOT / "tests" / "bad_inputs" / "base"
@@ -661,6 +663,8 @@ class Fuzzer:
 
     # A case returns None (passed) or a short description of the oracle it broke.
     def run_case(self, case):
+        if case["family"] == "python":
+            return python_api.run_case(self, case)
         if case["family"] == "file":
             return self.run_file_case(case)
         return self.run_config_case(case)
@@ -839,6 +843,8 @@ def minimise(fuzzer, case, problem, budget=60):
         return p is not None and kind_of(p) == kind
 
     case = json.loads(json.dumps(case))
+    if case["family"] == "python":
+        return python_api.minimise(case, still_fails)
     if case["family"] == "file":
         i = 0
         while i < len(case["mutations"]) and len(case["mutations"]) > 1:
@@ -879,8 +885,8 @@ def minimise(fuzzer, case, problem, budget=60):
 
 
 # ------------------------------------------------------------------------------------------ main
-FAMILIES = {"config": config_case, "set": set_case, "file": None}
-WEIGHTS = [("config", 0.45), ("set", 0.3), ("file", 0.25)]
+FAMILIES = {"config": config_case, "set": set_case, "file": None, "python": python_api.make_case}
+WEIGHTS = [("config", 0.45), ("set", 0.3), ("file", 0.25), ("python", 0.25)]  # python: only asked for
 
 
 def make_case(seed, k, families):
@@ -1004,6 +1010,7 @@ def main(argv=None):
         return 1 if failures else 0
     finally:
         fz.worker.stop()
+        python_api.stop()
         if fz.sources is not None:
             fz.sources.cleanup()
         if not args.findings and not any(findings_dir.iterdir()):
