@@ -12,6 +12,7 @@
 #include <condition_variable>
 #include <csignal>
 #include <exception>
+#include <fstream>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -20,6 +21,7 @@
 #include <vector>
 
 #include "granboltz/app/config.hpp"
+#include "granboltz/app/estimate.hpp"
 #include "granboltz/app/run.hpp"
 #include "granboltz/config/reader.hpp"
 #include "granboltz/core/gsl_errors.hpp"
@@ -130,6 +132,24 @@ struct StateError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// Refuses an engine that would not fit in the memory available (as run_to_file refuses a run):
+/// a config with 10^9 particles would otherwise be allocated and filled until the kernel kills
+/// the interpreter.
+void check_memory(const Config& config) {
+  std::uint64_t have = 0;
+  std::ifstream in("/proc/meminfo");
+  std::string key, unit;
+  std::uint64_t kb = 0;
+  while (in >> key >> kb >> unit)
+    if (key == "MemAvailable:") have = kb * 1024;
+  const std::uint64_t need = estimate_memory(config, 1);
+  if (have > 0 && static_cast<double>(need) > 0.9 * static_cast<double>(have))
+    throw ConfigError("granboltz.Simulation: the engine needs about " +
+                      human_bytes(static_cast<double>(need)) + " of memory, but only " +
+                      human_bytes(static_cast<double>(have)) +
+                      " is available; reduce dsmc.particles (dsmc.weights.max_particles)");
+}
+
 /// Parses a config as the CLI does and returns it with every default explicit.
 std::string normalized_config(const std::string& text, const std::string& origin) {
   return parse_config(text, origin).to_yaml(false);
@@ -212,6 +232,7 @@ class Simulation {
   Simulation(const std::string& text, const std::string& origin, std::uint64_t ensemble)
       : config_(std::make_unique<Config>(parse_config(text, origin))), ensemble_(ensemble) {
     check_model();
+    check_memory(*config_);
     const DsmcConfig& d = config_->dsmc;
     if (d.weights.swpm) weighted_ = std::make_unique<WeightedEnsemble>(d, config_->seed, ensemble);
     else if (d.general()) gas_ = std::make_unique<GasEnsemble>(d, config_->seed, ensemble);
@@ -256,6 +277,7 @@ class Simulation {
       } catch (const std::runtime_error& e) {
         throw StateError(path + ": attribute config: " + e.what());
       }
+      check_memory(*s->config_);
       const DsmcConfig& d = s->config_->dsmc;
       if (d.weights.swpm) s->weighted_ = std::make_unique<WeightedEnsemble>(d, in, "/state");
       else if (d.general()) s->gas_ = std::make_unique<GasEnsemble>(d, in, "/state");
@@ -266,6 +288,8 @@ class Simulation {
       return s;
     } catch (const StateError&) {
       throw;
+    } catch (const ConfigError&) {
+      throw;  // check_memory's: the state is sound, this machine too small
     } catch (const std::runtime_error& e) {
       throw StateError(e.what());
     }
@@ -532,6 +556,7 @@ PYBIND11_MODULE(_core, m) {
   }();
   m.attr("kMaxConfigDepth") = kMaxDepth;  // the config reader's limits: nested levels, bytes
   m.attr("kMaxConfigBytes") = kMaxConfigBytes;
+  m.attr("kMaxConfigNodes") = kMaxNodes;
   m.def("normalized_config", &normalized_config,
         "The config text validated by parse_config, every default explicit", py::arg("text"),
         py::arg("origin"));

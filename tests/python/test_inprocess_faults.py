@@ -386,6 +386,15 @@ def test_counts_out_of_range_or_of_the_wrong_type(tmp_path):
     assert list(tmp_path.iterdir()) == []
 
 
+def test_an_engine_larger_than_the_memory_is_refused_before_it_is_allocated():
+    # as simulate (run_to_file) refuses such a run; before: std::bad_alloc as MemoryError, or for
+    # a size that does fit the address space, the interpreter filled the memory until killed
+    huge = copy.deepcopy(PLAIN)
+    huge["dsmc"]["particles"] = 10**12
+    with pytest.raises(granboltz.ConfigError, match=r"granboltz\.Simulation: the engine needs about .* of memory"):
+        granboltz.Simulation(huge)
+
+
 def test_bytes_and_non_utf8_paths_work_fully(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     run = granboltz.simulate(PLAIN, output=b"o.h5", progress=False)

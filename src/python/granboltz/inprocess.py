@@ -53,13 +53,23 @@ def _short(value, limit=80):
     return text if len(text) <= limit else f"{text[:limit]}… ({len(text)} characters)"
 
 
-def _plain(value, key, origin, depth=1):
+def _plain(value, key, origin, depth=1, size=None):
     """The config dict as YAML can dump it: NumPy scalars and arrays (np.float64, np.int64,
     np.bool_, a 0-d array, np.linspace's 1-d array) as the numbers and lists they hold, tuples as
-    lists, anywhere in it. Nested no deeper than the simulator's config reader allows
-    (_core.kMaxConfigDepth mappings and lists); anything that is no config value is a
-    ConfigError naming its key."""
+    lists, anywhere in it. Within the simulator's config reader's bounds (_core.kMaxConfigDepth
+    nested mappings and lists, _core.kMaxConfigNodes values, _core.kMaxConfigBytes of text),
+    checked before YAML is written (200,000 numbers take yaml.safe_dump half a minute); anything
+    that is no config value is a ConfigError naming its key."""
+    if size is None:
+        size = [0, 0]  # values, characters of strings
+    size[0] += 1
+    if size[0] > _core.kMaxConfigNodes:
+        raise ConfigError(f"{origin}: more than {_core.kMaxConfigNodes} values (at {_short(key, 120)}); "
+                          f"a config has at most {_core.kMaxConfigNodes}")
     if isinstance(value, np.ndarray):
+        if value.size > _core.kMaxConfigNodes:
+            raise ConfigError(f"{origin}: {key}: an array of {value.size} values; a config has at most "
+                              f"{_core.kMaxConfigNodes}")
         if value.dtype.kind not in "biuf":
             raise ConfigError(f"{origin}: {key} = {_short(value)}: an array of dtype {value.dtype} is "
                               "not a config value (an array of numbers or booleans is)")
@@ -71,13 +81,18 @@ def _plain(value, key, origin, depth=1):
         if isinstance(value, dict):
             out = {}
             for k, v in value.items():
-                name = _plain(k, f"a key of {key}", origin, depth + 1)
+                name = _plain(k, f"a key of {key}", origin, depth + 1, size)
                 if isinstance(name, (dict, list)):
                     raise ConfigError(f"{origin}: {key}: the key {_short(k)} is not a scalar")
                 out[name] = _plain(v, f"{key}.{name}" if key != "the config" else str(name),
-                                   origin, depth + 1)
+                                   origin, depth + 1, size)
             return out
-        return [_plain(v, f"{key}[{i}]", origin, depth + 1) for i, v in enumerate(value)]
+        return [_plain(v, f"{key}[{i}]", origin, depth + 1, size) for i, v in enumerate(value)]
+    if not isinstance(value, (dict, list, tuple)):
+        size[1] += len(value) if isinstance(value, str) else 8  # about what YAML will write
+        if size[1] > _core.kMaxConfigBytes:
+            raise ConfigError(f"{origin}: more than {_core.kMaxConfigBytes} bytes of YAML (at "
+                              f"{_short(key, 120)}); a config is at most {_core.kMaxConfigBytes} bytes")
     if value is None or type(value) in (bool, int, float, str):
         return value
     if isinstance(value, (bool, np.bool_)):
@@ -111,8 +126,8 @@ def _config_text(config):
     or a path to a YAML file."""
     if isinstance(config, dict):
         plain = _plain(config, "the config", "<config dict>")
-        try:
-            text = yaml.safe_dump(plain, sort_keys=False)
+        try:  # libyaml's emitter where PyYAML has it: the same YAML, far faster
+            text = yaml.dump(plain, Dumper=getattr(yaml, "CSafeDumper", yaml.SafeDumper), sort_keys=False)
         except yaml.YAMLError as e:  # not expected: _plain leaves only YAML's own types
             raise ConfigError(f"<config dict>: cannot be written as YAML ({str(e).splitlines()[0]})") from None
         return text.encode("utf-8", "surrogateescape"), b"<config dict>", b""
