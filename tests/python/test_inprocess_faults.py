@@ -359,6 +359,23 @@ def test_deep_nesting_is_a_config_error_with_the_readers_limit(tmp_path):
         granboltz.simulate(cfg, progress=False)
 
 
+def test_a_config_dict_beyond_the_readers_bounds_is_refused_before_yaml_is_written():
+    import time
+
+    config = copy.deepcopy(PLAIN)
+    config["dsmc"]["alpha"] = np.zeros(200_000)  # yaml.safe_dump took 21 s, then the reader refused it
+    start = time.monotonic()
+    with pytest.raises(granboltz.ConfigError, match="a config has at most 100000"):
+        granboltz.Simulation(config)
+    config["dsmc"]["alpha"] = list(range(150_000))
+    with pytest.raises(granboltz.ConfigError, match="more than 100000 values"):
+        granboltz.simulate(config, progress=False)
+    config["dsmc"]["alpha"] = "x" * 2_000_000
+    with pytest.raises(granboltz.ConfigError, match="more than 1048576 bytes"):
+        granboltz.Simulation(config)
+    assert time.monotonic() - start < 5
+
+
 def test_counts_out_of_range_or_of_the_wrong_type(tmp_path):
     cases = [
         (lambda: granboltz.simulate(PLAIN, threads=2**70, progress=False), ValueError, r"threads = 1180591620717411303424: .*0 <= threads <= 1024"),

@@ -61,7 +61,7 @@ def _plain(value, key, origin, depth=1, size=None):
     checked before YAML is written (200,000 numbers take yaml.safe_dump half a minute); anything
     that is no config value is a ConfigError naming its key."""
     if size is None:
-        size = [0, 0]  # values, characters of strings
+        size = [0, 0]  # values, bytes of YAML (about)
     size[0] += 1
     if size[0] > _core.kMaxConfigNodes:
         raise ConfigError(f"{origin}: more than {_core.kMaxConfigNodes} values (at {_short(key, 120)}); "
@@ -88,11 +88,15 @@ def _plain(value, key, origin, depth=1, size=None):
                                    origin, depth + 1, size)
             return out
         return [_plain(v, f"{key}[{i}]", origin, depth + 1, size) for i, v in enumerate(value)]
-    if not isinstance(value, (dict, list, tuple)):
-        size[1] += len(value) if isinstance(value, str) else 8  # about what YAML will write
-        if size[1] > _core.kMaxConfigBytes:
-            raise ConfigError(f"{origin}: more than {_core.kMaxConfigBytes} bytes of YAML (at "
-                              f"{_short(key, 120)}); a config is at most {_core.kMaxConfigBytes} bytes")
+    size[1] += len(value) if isinstance(value, str) else 8  # about what YAML will write
+    if size[1] > _core.kMaxConfigBytes:
+        raise ConfigError(f"{origin}: more than {_core.kMaxConfigBytes} bytes of YAML (at "
+                          f"{_short(key, 120)}); a config is at most {_core.kMaxConfigBytes} bytes")
+    if isinstance(value, str):
+        try:
+            value.encode("utf-8")
+        except UnicodeEncodeError:  # a lone surrogate (os.fsdecode of bytes that are not UTF-8)
+            raise ConfigError(f"{origin}: {key} = {_short(value)}: not valid Unicode text") from None
     if value is None or type(value) in (bool, int, float, str):
         return value
     if isinstance(value, (bool, np.bool_)):
@@ -139,6 +143,8 @@ def _config_text(config):
             fd = os.open(raw, os.O_RDONLY | os.O_NONBLOCK | os.O_CLOEXEC)
         except FileNotFoundError:
             raise FileNotFoundError(f"config file {shown!r}: no such file") from None
+        except OSError as e:  # permissions, a file where a folder should be, a loop of links
+            raise ConfigError(f"{shown}: cannot open config file ({e.strerror})") from None
         try:
             mode = os.fstat(fd).st_mode
             if stat.S_ISDIR(mode):
