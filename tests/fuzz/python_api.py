@@ -825,7 +825,7 @@ def damage_file(path, damage, np):
                 elif k in ("reshape", "cast", "delete", "value"):
                     if not names:
                         continue
-                    name = names[x["nth"] % len(names)]
+                    name = x.get("name") or names[x["nth"] % len(names)]  # a recipe may name it
                     if name not in f:
                         continue
                     v = f[name][()]
