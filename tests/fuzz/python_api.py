@@ -381,13 +381,19 @@ class Worker:
     def __init__(self):
         self.proc = None
         self.err = None
+        self.binary = str(ROOT / "build" / "granboltz")
 
     def start(self):
         self.err = tempfile.TemporaryFile()
-        self.tmp = pathlib.Path(tempfile.mkdtemp(prefix="granboltz-fuzz-pytmp-"))
+        # tmp: the worker's TMPDIR, which must stay empty; scratch: the harness's own files
+        self.home = pathlib.Path(tempfile.mkdtemp(prefix="granboltz-fuzz-python-"))
+        self.tmp = self.home / "tmp"
+        self.tmp.mkdir()
+        (self.home / "scratch").mkdir()
         r, w = os.pipe()
         env = dict(os.environ, PYTHONPATH=str(ROOT / "src" / "python"), TMPDIR=str(self.tmp),
-                   GRANBOLTZ_FUZZ_FD=str(w))
+                   GRANBOLTZ_FUZZ_FD=str(w), GRANBOLTZ_FUZZ_BIN=self.binary,
+                   GRANBOLTZ_FUZZ_SCRATCH=str(self.home / "scratch"))
         self.proc = subprocess.Popen([sys.executable, str(pathlib.Path(__file__).resolve()), "--worker"],
                                      stdin=subprocess.PIPE, stdout=subprocess.DEVNULL, stderr=self.err,
                                      env=env, pass_fds=(w,), text=True)
@@ -433,7 +439,7 @@ class Worker:
             self.proc.wait()
             self.proc = None
             os.close(self.answers)
-            shutil.rmtree(self.tmp, ignore_errors=True)
+            shutil.rmtree(self.home, ignore_errors=True)
 
     def tmp_leftovers(self):
         return sorted(os.listdir(self.tmp)) if self.proc is not None else []
@@ -486,6 +492,7 @@ def message_problem(call, exc, msg):
 def run_case(fuzzer, case):
     """fuzz.py's run_case for this family: None if the case passes, else its problem."""
     d = tempfile.mkdtemp(prefix="granboltz-fuzz-py-")
+    _worker.binary = getattr(fuzzer, "binary", _worker.binary)
     try:
         answers, final, err = _worker.ask({"case": case, "dir": d}, TIMEOUT)
         if getattr(fuzzer, "verbose", False):
@@ -549,11 +556,43 @@ def minimise(case, still_fails):
 
 
 # ----------------------------------------------------------------------- in the worker
+LONG = 3.0  # seconds: a valid config the estimate calls longer is not run (as run --max-hours)
+
+
+def too_long(argument, scratch):
+    """Whether `granboltz estimate` calls the run of this config (dict or path) longer than LONG
+    seconds on one thread: a valid huge run (C = 1e9) is no fault of the API, only slow. False
+    when the config is refused (the call then says why) or the estimate cannot be read."""
+    import re
+
+    from granboltz import _core, inprocess
+
+    try:
+        text, origin, _ = inprocess._config_text(argument)
+        normalized = _core.normalized_config(text, origin)
+    except BaseException:  # noqa: BLE001 - refused: the call under test says so
+        return False
+    path = os.path.join(scratch, "estimate.yaml")
+    with open(path, "w", encoding="utf-8", errors="surrogateescape") as f:
+        f.write(normalized)
+    try:
+        r = subprocess.run([os.environ["GRANBOLTZ_FUZZ_BIN"], "estimate", path, "--threads", "1"],
+                           capture_output=True, text=True, timeout=10)
+    except (OSError, subprocess.TimeoutExpired):
+        return False
+    m = re.search(r"wall time (?:about|more than) ([0-9.e+]+) (s|min|h|days)", r.stdout)
+    if not m:
+        return False
+    return float(m.group(1)) * {"s": 1, "min": 60, "h": 3600, "days": 86400}[m.group(2)] > LONG
+
+
 def worker_main():
     import numpy as np
 
     out = os.fdopen(int(os.environ["GRANBOLTZ_FUZZ_FD"]), "w")
     home = os.getcwd()
+    global SCRATCH
+    SCRATCH = os.environ["GRANBOLTZ_FUZZ_SCRATCH"]
 
     def send(x):
         out.write(json.dumps(x) + "\n")
@@ -688,6 +727,9 @@ def execute(case, configs, np, send):
     argument = {"dict": config, "path": "c.yaml", "bytes_path": b"c.yaml", "pathlib": pathlib.Path("c.yaml"),
                 "text": "model: dsmc\n", "int": 7}[given]
     send({"snapshot": snapshot(d)})
+    if too_long(argument, SCRATCH):
+        send({"skipped": "the estimate calls the run longer than the fuzzer waits"})
+        return outputs
     equivalent = equivalent_only(case["edits"]) and given == "dict" and case["edits"]
 
     if command == "simulate":
