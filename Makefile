@@ -82,14 +82,17 @@ test-slurm: deps build
 	bash scripts/test-slurm.sh
 
 ## make fuzz MINUTES=10: the mutation fuzzer (tests/fuzz/fuzz.py, a seed from the clock, printed
-## to replay with --seed) for MINUTES, then AFL++ on the config entry point for MINUTES
+## to replay with --seed; every family: configs, --set, damaged files, studies and the Python
+## API; FUZZ_FAMILIES to choose) for MINUTES, then AFL++ on the config entry point for MINUTES
 ## (tests/fuzz/afl.sh, build-afl; installs AFL++ on demand). Findings: tests/fuzz/README.md
 MINUTES ?= 10
 FUZZ_FINDINGS ?= fuzz-findings
+FUZZ_FAMILIES ?= config,set,file,study,python
 fuzz: build
 	@bash scripts/install-deps.sh --with-fuzz
 	@status=0; \
-	$(PYTHON) tests/fuzz/fuzz.py --binary $(BUILD)/granboltz --minutes $(MINUTES) --findings $(FUZZ_FINDINGS) || status=1; \
+	$(PYTHON) tests/fuzz/fuzz.py --binary $(BUILD)/granboltz --minutes $(MINUTES) --families $(FUZZ_FAMILIES) \
+	  --findings $(FUZZ_FINDINGS) || status=1; \
 	JOBS=$(JOBS) bash tests/fuzz/afl.sh $(MINUTES) || status=1; \
 	exit $$status
 

@@ -744,8 +744,8 @@ TEST(WeightedEnsemble, SteadyRunsWithoutSplitReachLongTimes) {
     ASSERT_EQ(b.exit_code, 0) << heat << ": " << b.output;
     H5Reader ha(half), hb(whole);
     double ca = 0, cb = 0;
-    for (double x : ha.read_double("/events/collisions")) ca += x;
-    for (double x : hb.read_double("/events/collisions")) cb += x;
+    for (auto x : ha.read_uint64("/events/collisions")) ca += static_cast<double>(x);
+    for (auto x : hb.read_uint64("/events/collisions")) cb += static_cast<double>(x);
     EXPECT_LT(cb, 3.0 * ca) << heat << ": collisions to t = 100: " << ca << ", to 200: " << cb;
     for (double T : hb.read_double("/temperature/mean")) EXPECT_TRUE(std::isfinite(T)) << heat;
   }

@@ -12,9 +12,12 @@
 #include <algorithm>
 #include <chrono>
 #include <fstream>
+#include <functional>
 #include <thread>
 
+#include "granboltz/dsmc/particles_io.hpp"
 #include "granboltz/h5/hdf5_io.hpp"
+#include "granboltz/record/engine_io.hpp"
 #include "test_support.hpp"
 
 using granboltz::H5Reader;
@@ -316,4 +319,47 @@ TEST(FullDisk, CheckpointThatNoLongerFitsOnATmpfsEndsTheRunAndKeepsThePreviousOn
   H5Reader kept(ckpt);  // a complete checkpoint, readable
   EXPECT_TRUE(kept.exists("/accumulators/series"));
   expect_no_temporaries(disk.dir.path.string());
+}
+
+// An edited state (a checkpoint or a granboltz.Simulation.save whose digest was rewritten too,
+// or one read before its digest is compared) is refused where the engine reads it, naming the
+// dataset: a stream in xoshiro256++'s all-zero fixed point (it would draw zeros forever: the
+// restored run hangs), a dataset stored as another type than written (HDF5 would convert it
+// silently), particles of another shape with as many numbers.
+TEST(EditedState, ReadersRefuseZeroStreamsOtherDtypesAndShapesNamingTheDataset) {
+  TempDir dir;
+  const std::string path = dir.file("state.h5");
+  {
+    granboltz::H5Writer out(path);
+    out.write("/zero_stream", std::vector<std::uint64_t>{0, 0, 0, 0, 17}, {5});
+    out.write("/stream", std::vector<std::uint64_t>{0, 0, 0, 1, 17}, {5});
+    out.write("/flat", std::vector<double>(8, 0.5), {8});
+    out.write("/integers", std::vector<std::int64_t>(8, 1), {2, 4});
+    out.write("/rows", std::vector<double>(8, 0.5), {2, 4});
+    out.commit();
+  }
+  const H5Reader in(path);
+  auto message = [&](const std::function<void()>& read) {
+    try {
+      read();
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(granboltz::read_engine(in, "/stream").draws(), 17u);  // any other state is fine
+  EXPECT_NE(message([&] { granboltz::read_engine(in, "/zero_stream"); })
+                .find(path + ": dataset /zero_stream: a random stream in the all-zero state"),
+            std::string::npos);
+  EXPECT_EQ(message([&] { granboltz::read_engine(in, "/flat"); }),
+            path + ": dataset /flat: malformed stream state (not 5 words)");
+  granboltz::Particles p;
+  EXPECT_TRUE(granboltz::read_particles(in, "/rows", p));
+  EXPECT_EQ(p.size(), 2u);
+  EXPECT_EQ(message([&] { granboltz::read_particles(in, "/flat", p); }),
+            path + ": dataset /flat: has shape (8,), not (n, 4)");
+  EXPECT_EQ(message([&] { granboltz::read_particles(in, "/integers", p); }),
+            path + ": dataset /integers: has dtype int64, not float64");
+  EXPECT_EQ(message([&] { in.read_uint64("/rows"); }),
+            path + ": dataset /rows: has dtype float64, not uint64");
 }

@@ -4,6 +4,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
+#include <signal.h>
 
 #include <atomic>
 #include <chrono>
@@ -11,6 +12,7 @@
 #include <condition_variable>
 #include <csignal>
 #include <exception>
+#include <fstream>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -19,7 +21,9 @@
 #include <vector>
 
 #include "granboltz/app/config.hpp"
+#include "granboltz/app/estimate.hpp"
 #include "granboltz/app/run.hpp"
+#include "granboltz/config/reader.hpp"
 #include "granboltz/core/gsl_errors.hpp"
 #include "granboltz/dsmc/ensemble.hpp"
 #include "granboltz/dsmc/gas.hpp"
@@ -29,6 +33,7 @@
 #include "granboltz/dsmc/weighted.hpp"
 #include "granboltz/exec/ensemble_pool.hpp"
 #include "granboltz/h5/hdf5_io.hpp"
+#include "granboltz/h5/verify.hpp"
 
 namespace py = pybind11;
 using namespace granboltz;
@@ -58,6 +63,93 @@ struct SigintGuard {  // installs on_sigint for its lifetime, then puts the prev
   }
 };
 
+// SIGTERM during simulate, where the process would die of it (the default disposition): as in
+// `granboltz run`, a run that checkpoints writes a last checkpoint; the run then stops at a
+// safe point, its temporary files go, and Python ends the process with SIGTERM itself
+// (end_by_sigterm) once its own clean-up has run. A handler of the user's own (Python's
+// signal.signal) or an ignored SIGTERM is left alone. One handler for the whole process:
+// concurrent runs (threads) share it, the last to finish puts the default back.
+std::atomic<bool> g_terminate{false};   // SIGTERM arrived
+std::atomic<bool> g_term_final{false};  // ... and a run that checkpoints took it as its last one
+static_assert(std::atomic<bool>::is_always_lock_free);
+extern "C" void on_sigterm(int) {
+  g_term_final.store(request_final_checkpoint());
+  g_terminate.store(true);
+}
+
+std::mutex g_term_mutex;
+int g_term_users = 0;
+bool g_term_installed = false;
+struct sigaction g_term_previous {};
+
+struct SigtermGuard {  // on_sigterm while at least one run is under way, if SIGTERM is default
+  SigtermGuard() {
+    std::lock_guard<std::mutex> lock(g_term_mutex);
+    if (g_term_users++ > 0) return;
+    g_terminate.store(false);
+    g_term_final.store(false);
+    struct sigaction current {};
+    if (sigaction(SIGTERM, nullptr, &current) != 0 || (current.sa_flags & SA_SIGINFO) ||
+        current.sa_handler != SIG_DFL)
+      return;
+    struct sigaction action {};
+    action.sa_handler = on_sigterm;
+    sigemptyset(&action.sa_mask);
+    g_term_installed = sigaction(SIGTERM, &action, &g_term_previous) == 0;
+  }
+  ~SigtermGuard() {
+    std::lock_guard<std::mutex> lock(g_term_mutex);
+    if (--g_term_users > 0 || !g_term_installed) return;
+    g_term_installed = false;
+    // Only if it is still ours: a handler set meanwhile (signal.signal in another thread) stays.
+    struct sigaction current {};
+    if (sigaction(SIGTERM, nullptr, &current) == 0 && current.sa_handler == on_sigterm)
+      sigaction(SIGTERM, &g_term_previous, nullptr);
+  }
+};
+
+/// Ends the process with SIGTERM under its default disposition, as it would have died without
+/// simulate's handler (a parent sees "killed by signal 15"; a shell, status 143).
+[[noreturn]] void end_by_sigterm() {
+  struct sigaction action {};
+  action.sa_handler = SIG_DFL;
+  sigemptyset(&action.sa_mask);
+  sigaction(SIGTERM, &action, nullptr);
+  sigset_t set;
+  sigemptyset(&set);
+  sigaddset(&set, SIGTERM);
+  pthread_sigmask(SIG_UNBLOCK, &set, nullptr);
+  raise(SIGTERM);
+  std::_Exit(128 + SIGTERM);  // not reached
+}
+
+/// A call on a Simulation while another thread is inside one (advance releases the GIL).
+struct SimulationBusy : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+/// A file Simulation.restore refuses (Python: granboltz.RunReadError).
+struct StateError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// Refuses an engine that would not fit in the memory available (as run_to_file refuses a run):
+/// a config with 10^9 particles would otherwise be allocated and filled until the kernel kills
+/// the interpreter.
+void check_memory(const Config& config) {
+  std::uint64_t have = 0;
+  std::ifstream in("/proc/meminfo");
+  std::string key, unit;
+  std::uint64_t kb = 0;
+  while (in >> key >> kb >> unit)
+    if (key == "MemAvailable:") have = kb * 1024;
+  const std::uint64_t need = estimate_memory(config, 1);
+  if (have > 0 && static_cast<double>(need) > 0.9 * static_cast<double>(have))
+    throw ConfigError("granboltz.Simulation: the engine needs about " +
+                      human_bytes(static_cast<double>(need)) + " of memory, but only " +
+                      human_bytes(static_cast<double>(have)) +
+                      " is available; reduce dsmc.particles (dsmc.weights.max_particles)");
+}
+
 /// Parses a config as the CLI does and returns it with every default explicit.
 std::string normalized_config(const std::string& text, const std::string& origin) {
   return parse_config(text, origin).to_yaml(false);
@@ -66,12 +158,17 @@ std::string normalized_config(const std::string& text, const std::string& origin
 /// A whole run, written to `output` by run_to_file on a thread of its own while this (the
 /// calling) thread waits with the GIL released, looking every 0.1 s for a signal (Python's
 /// handlers run here: KeyboardInterrupt cancels the run) and feeding `progress(fraction)`.
-void run_file(const std::string& text, const std::string& origin, const std::string& output,
-              std::optional<unsigned> threads, const py::object& progress,
-              const std::string& command) {
+/// `config_path`: the config's file ("" for a dict), which the output must not be. Returns true
+/// if SIGTERM arrived (see SigtermGuard): the run is then stopped and cleaned up, whatever it
+/// raised, and the caller ends the process with end_by_sigterm after its own clean-up.
+bool run_file(const std::string& text, const std::string& origin, const std::string& config_path,
+              const std::string& output, std::optional<unsigned> threads,
+              const py::object& progress, const std::string& command) {
   Config config = parse_config(text, origin);
   if (threads) config.threads = *threads;
-  check_output_path(output, {output + ".checkpoint"});
+  // As `granboltz run`: never over the config (by device and inode: a hard link or another
+  // spelling of it), a link, a directory or a FIFO (check_output_path), before anything exists.
+  check_output_path(output, {config_path, output + ".checkpoint"});
   std::atomic<bool> cancel{false};
   std::atomic<double> fraction{0.0};
   DriverOptions options;
@@ -80,7 +177,9 @@ void run_file(const std::string& text, const std::string& origin, const std::str
   options.label = origin;
   options.cancel = &cancel;
   options.fraction = &fraction;
+  options.on_final_checkpoint = [&cancel] { cancel.store(true); };
 
+  SigtermGuard sigterm;
   std::mutex mutex;
   std::condition_variable changed;
   bool finished = false;
@@ -108,17 +207,23 @@ void run_file(const std::string& text, const std::string& origin, const std::str
       done = changed.wait_for(lock, std::chrono::milliseconds(100), [&] { return finished; });
     }
     if (done) break;
+    // SIGTERM: a run that checkpoints cancels itself once its last checkpoint is written
+    // (on_final_checkpoint); any other stops now.
+    if (g_terminate.load() && !g_term_final.load()) cancel.store(true);
     try {
       if (PyErr_CheckSignals() != 0) throw py::error_already_set();
       if (!progress.is_none()) progress(fraction.load());
     } catch (...) {
       stop();
+      if (g_terminate.load()) return true;
       throw;
     }
   }
   worker.join();
+  if (g_terminate.load()) return true;
   if (error) std::rethrow_exception(error);
   if (!progress.is_none()) progress(1.0);
+  return false;
 }
 
 /// One ensemble of a DSMC run, advanced on request.
@@ -127,47 +232,100 @@ class Simulation {
   Simulation(const std::string& text, const std::string& origin, std::uint64_t ensemble)
       : config_(std::make_unique<Config>(parse_config(text, origin))), ensemble_(ensemble) {
     check_model();
+    check_memory(*config_);
     const DsmcConfig& d = config_->dsmc;
     if (d.weights.swpm) weighted_ = std::make_unique<WeightedEnsemble>(d, config_->seed, ensemble);
     else if (d.general()) gas_ = std::make_unique<GasEnsemble>(d, config_->seed, ensemble);
     else plain_ = std::make_unique<DsmcEnsemble>(d, config_->seed, ensemble);
   }
 
-  /// Reads a state written by save().
+  /// Reads a state written by save(), trusted only as far as it is checked, as a checkpoint is
+  /// (app/run.cpp): a regular file (a FIFO would block), read through in a child process first
+  /// (a damaged file can crash the HDF5 library), its config against its config_hash, every
+  /// dataset against the engine's invariants (shapes, dtypes, streams not all-zero) and then
+  /// against the digest written by save(). A state without a digest (an older granboltz) is
+  /// refused: nothing else could tell an edited one. Every refusal is a StateError naming the
+  /// file and, where one is to blame, the dataset or attribute.
   static std::unique_ptr<Simulation> restore(const std::string& path) {
-    H5Reader in(path);
-    if (!in.has_attr("/", "kind") || in.attr_string("/", "kind") != "simulation")
-      throw std::runtime_error(path + ": not a state written by granboltz.Simulation.save");
-    auto s = std::unique_ptr<Simulation>(new Simulation());
-    s->config_ = std::make_unique<Config>(parse_config(in.attr_string("/", "config"), path));
-    s->ensemble_ = in.attr_uint64("/", "ensemble");
-    s->check_model();
-    const DsmcConfig& d = s->config_->dsmc;
-    if (d.weights.swpm) s->weighted_ = std::make_unique<WeightedEnsemble>(d, in, "/state");
-    else if (d.general()) s->gas_ = std::make_unique<GasEnsemble>(d, in, "/state");
-    else s->plain_ = std::make_unique<DsmcEnsemble>(d, in, "/state");
-    return s;
+    try {
+      check_input_file(path, "a simulation state (granboltz.Simulation.save)");
+      const FileCheck check = check_file(path);
+      // check_file compares the digest too; named problems (the engine's checks below) are
+      // more useful than "does not match", so that one is reported last.
+      const bool digest_only =
+          check.problems.size() == 1 && check.problems[0].find("do not match its digest") != std::string::npos;
+      if (!check.problems.empty() && !digest_only)
+        throw StateError(path + ": " + check.problems.front());
+      H5Reader in(path);
+      if (!in.has_attr("/", "kind") || in.attr_string("/", "kind") != "simulation")
+        throw StateError(path + ": not a state written by granboltz.Simulation.save (no attribute "
+                                "kind = simulation)");
+      if (!in.has_attr("/", "digest"))
+        throw StateError(path + ": a state without its digest attribute (saved by an older "
+                                "granboltz): it cannot be checked, so it is refused");
+      for (const char* name : {"config", "config_hash", "ensemble"})
+        if (!in.has_attr("/", name)) throw StateError(path + ": attribute " + name + ": missing");
+      const std::string text = in.attr_string("/", "config");
+      if (in.attr_uint64("/", "config_hash") != text_hash(text))
+        throw StateError(path + ": attribute config: does not match its config_hash (edited or "
+                                "damaged)");
+      auto s = std::unique_ptr<Simulation>(new Simulation());
+      try {
+        s->config_ = std::make_unique<Config>(parse_config(text, path));
+        s->ensemble_ = in.attr_uint64("/", "ensemble");
+        s->check_model();
+      } catch (const std::runtime_error& e) {
+        throw StateError(path + ": attribute config: " + e.what());
+      }
+      check_memory(*s->config_);
+      const DsmcConfig& d = s->config_->dsmc;
+      if (d.weights.swpm) s->weighted_ = std::make_unique<WeightedEnsemble>(d, in, "/state");
+      else if (d.general()) s->gas_ = std::make_unique<GasEnsemble>(d, in, "/state");
+      else s->plain_ = std::make_unique<DsmcEnsemble>(d, in, "/state");
+      if (digest_only || in.attr_uint64("/", "digest") != in.digest())
+        throw StateError(path + ": the datasets do not match the digest it was saved with "
+                                "(edited or damaged)");
+      return s;
+    } catch (const StateError&) {
+      throw;
+    } catch (const ConfigError&) {
+      throw;  // check_memory's: the state is sound, this machine too small
+    } catch (const std::runtime_error& e) {
+      throw StateError(e.what());
+    }
   }
 
-  void save(const std::string& path) const {
+  /// As a checkpoint is written: the config with its hash and a digest of every dataset, which
+  /// restore() checks. Never over `config_path`, the file the config was read from ("" if none),
+  /// as simulate never writes over its config.
+  void save(const std::string& path, const std::string& config_path) const {
+    Use use(*this, "save");
+    check_output_path(path, {config_path});
     H5Writer out(path);
+    const std::string text = config_->to_yaml(false);
     out.attr("/", "kind", std::string("simulation"));
-    out.attr("/", "config", config_->to_yaml(false));
+    out.attr("/", "config", text);
+    out.attr("/", "config_hash", text_hash(text));
     out.attr("/", "ensemble", ensemble_);
     if (weighted_) weighted_->save(out, "/state");
     else if (gas_) gas_->save(out, "/state");
     else plain_->save(out, "/state");
+    out.attr("/", "digest", out.digest());
     out.commit();
   }
 
   /// Advances to time t; returns false if SIGINT arrived (the state is then at a safe point,
   /// from which a later call continues as if uninterrupted).
   bool advance(double t, bool interruptible) {
+    Use use(*this, "advance");
     const DsmcConfig& d = config_->dsmc;
-    const double now = time();
-    if (!std::isfinite(t) || t < now)
-      throw py::value_error("advance(" + format(t) + "): t must be finite and >= time = " +
-                            format(now));
+    const double now = this->now();
+    // Not beyond t_end: the engines' states hold t <= t_end (a saved one beyond would not
+    // restore), and an advance to 1e308 would never end.
+    if (!std::isfinite(t) || t < now || t > d.t_end)
+      throw py::value_error("advance(" + format(t) + "): t must be finite, >= time = " +
+                            format(now) + " and <= t_end = " + format(d.t_end) +
+                            " (the config's dsmc.t_end)");
     if (d.scheme != Scheme::kNoSplit) {
       const double k = t / d.time_step();
       if (std::fabs(k - std::round(k)) > 1e-9 * std::max(1.0, std::fabs(k)))
@@ -190,7 +348,12 @@ class Simulation {
   }
 
   double time() const {
-    return weighted_ ? weighted_->time() : gas_ ? gas_->time() : plain_->time();
+    Use use(*this, "time");
+    return now();
+  }
+  std::size_t particle_count() const {
+    Use use(*this, "particle_count");
+    return particles().size();
   }
   double t_end() const { return config_->dsmc.t_end; }
   int dimension() const { return config_->dsmc.dimension; }
@@ -203,6 +366,7 @@ class Simulation {
   }
 
   py::array_t<double> velocities() const {
+    Use use(*this, "velocities");
     const Particles& p = particles();
     const auto n = static_cast<py::ssize_t>(p.size());
     const int d = dimension();
@@ -218,6 +382,7 @@ class Simulation {
   }
 
   py::object spins() const {
+    Use use(*this, "spins");
     if (!gas_ || !config_->dsmc.roughness.on) return py::none();
     const auto& w = gas_->spins();
     const auto n = static_cast<py::ssize_t>(w.size());
@@ -237,6 +402,7 @@ class Simulation {
   }
 
   py::object weights() const {
+    Use use(*this, "weights");
     if (!weighted_) return py::none();
     const auto& g = weighted_->weights();
     py::array_t<double> out(static_cast<py::ssize_t>(g.size()));
@@ -245,6 +411,7 @@ class Simulation {
   }
 
   py::dict counts() const {
+    Use use(*this, "counts");
     const EventCounts& c = weighted_ ? weighted_->counts() : gas_ ? gas_->counts() : plain_->counts();
     py::dict out;
     out["collisions"] = c.collisions;
@@ -260,6 +427,7 @@ class Simulation {
   /// {"scalars": the Observation, "moments": <|v-V|^2p>, p = 1..dsmc.moments, and for the
   /// general gas "rows": [(group, scalars, moments)] of extra_row_sets}.
   py::dict observe() const {
+    Use use(*this, "observe");
     const DsmcConfig& d = config_->dsmc;
     const auto P = static_cast<std::size_t>(d.moments);
     std::vector<double> moments(P, 0.0);
@@ -291,6 +459,31 @@ class Simulation {
 
  private:
   Simulation() = default;
+
+  // advance releases the GIL: while it runs, another thread could read or change the engine
+  // under it (a torn copy, a heap corrupted by a reallocating vector). Every member that touches
+  // the engine holds this mark for its length, and a second caller is refused at once (waiting
+  // would block that thread, GIL released or not, for as long as an advance may take). The
+  // config members need no mark: the config never changes after construction.
+  struct Use {
+    const Simulation& s;
+    Use(const Simulation& sim, const char* what) : s(sim) {
+      const char* holder = nullptr;
+      if (!s.user_.compare_exchange_strong(holder, what))
+        throw SimulationBusy(std::string("granboltz.Simulation.") + what +
+                             ": refused: another thread is inside " + holder +
+                             "() of this Simulation; one Simulation is used by one thread at a "
+                             "time (wait for that call, or give each thread its own Simulation)");
+    }
+    ~Use() { s.user_.store(nullptr); }
+    Use(const Use&) = delete;
+    Use& operator=(const Use&) = delete;
+  };
+  mutable std::atomic<const char*> user_{nullptr};
+
+  double now() const {
+    return weighted_ ? weighted_->time() : gas_ ? gas_->time() : plain_->time();
+  }
 
   void check_model() const {
     if (config_->model != Model::kDsmc)
@@ -326,13 +519,36 @@ PYBIND11_MODULE(_core, m) {
   static py::exception<ConfigError> config_error(m, "ConfigError", PyExc_ValueError);
   config_error.attr("__doc__") =
       "A config the simulator refuses: the CLI's one-line message, naming the key.";
+  static py::exception<SimulationBusy> busy_error(m, "SimulationBusyError", PyExc_RuntimeError);
+  busy_error.attr("__doc__") =
+      "A call on a granboltz.Simulation while another thread is inside one of its calls "
+      "(advance): refused at once; one Simulation is used by one thread at a time.";
+  static py::exception<StateError> state_error(m, "StateError", PyExc_RuntimeError);
+  state_error.attr("__doc__") =
+      "A saved state that Simulation.restore refuses (edited, damaged or not a state); "
+      "granboltz.Simulation.restore raises it again as granboltz.RunReadError.";
+  // Every message is one line, as the CLI prints it: control characters escaped, bytes that
+  // are not UTF-8 (a path's) shown as \xNN, cut at 1000 characters.
   py::register_exception_translator([](std::exception_ptr p) {
+    auto line = [](const std::exception& e) { return quote_value(e.what(), 1000); };
     try {
       if (p) std::rethrow_exception(p);
+    } catch (const py::error_already_set&) {
+      throw;
+    } catch (const py::builtin_exception& e) {
+      throw;  // pybind11's own (value_error: ValueError), translated by pybind11
     } catch (const ConfigError& e) {
-      config_error(e.what());
+      config_error(line(e).c_str());
+    } catch (const SimulationBusy& e) {
+      busy_error(line(e).c_str());
+    } catch (const StateError& e) {
+      state_error(line(e).c_str());
     } catch (const RunCancelled& e) {
       PyErr_SetString(PyExc_KeyboardInterrupt, e.what());
+    } catch (const std::bad_alloc&) {
+      PyErr_SetString(PyExc_MemoryError, "out of memory");
+    } catch (const std::runtime_error& e) {
+      PyErr_SetString(PyExc_RuntimeError, line(e).c_str());
     }
   });
   m.attr("kObservables") = [] {
@@ -341,21 +557,28 @@ PYBIND11_MODULE(_core, m) {
       out.append(py::make_tuple(o.name, o.offset, o.rank, o.description));
     return out;
   }();
+  m.attr("kMaxConfigDepth") = kMaxDepth;  // the config reader's limits: nested levels, bytes
+  m.attr("kMaxConfigBytes") = kMaxConfigBytes;
+  m.attr("kMaxConfigNodes") = kMaxNodes;
   m.def("normalized_config", &normalized_config,
         "The config text validated by parse_config, every default explicit", py::arg("text"),
         py::arg("origin"));
   m.def("run_file", &run_file,
-        "Runs a config with run_to_file (as `granboltz run`); progress(fraction) or None",
-        py::arg("text"), py::arg("origin"), py::arg("output"), py::arg("threads"),
-        py::arg("progress"), py::arg("command"));
+        "Runs a config with run_to_file (as `granboltz run`); progress(fraction) or None; "
+        "True if SIGTERM arrived (then call end_by_sigterm)",
+        py::arg("text"), py::arg("origin"), py::arg("config_path"), py::arg("output"),
+        py::arg("threads"), py::arg("progress"), py::arg("command"));
+  m.def("end_by_sigterm", &end_by_sigterm,
+        "Ends the process with SIGTERM under its default disposition (after run_file said so)");
   py::class_<Simulation>(m, "Simulation",
                          "One DSMC ensemble's engine (use granboltz.Simulation)")
       .def(py::init<const std::string&, const std::string&, std::uint64_t>(), py::arg("text"),
            py::arg("origin"), py::arg("ensemble"))
       .def_static("restore", &Simulation::restore, py::arg("path"))
-      .def("save", &Simulation::save, py::arg("path"))
+      .def("save", &Simulation::save, py::arg("path"), py::arg("config_path"))
       .def("advance", &Simulation::advance, py::arg("t"), py::arg("interruptible"))
       .def_property_readonly("time", &Simulation::time)
+      .def_property_readonly("particle_count", &Simulation::particle_count)
       .def_property_readonly("t_end", &Simulation::t_end)
       .def_property_readonly("dimension", &Simulation::dimension)
       .def_property_readonly("ensemble", &Simulation::ensemble)

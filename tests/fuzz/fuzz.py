@@ -1,13 +1,17 @@
 #!/usr/bin/python3
 """Bounded mutation fuzzer of granboltz (tests/fuzz/README.md).
 
-Three families of cases, each built from a seed alone (case k of seed s draws from
+Five families of cases, each built from a seed alone (case k of seed s draws from
 random.Random("s:k")), so a seed and a case count replay exactly:
   config  a valid config mutated (keys deleted, duplicated, renamed; extreme values; wrong types;
           YAML damage; anchors and aliases), given to run, validate or estimate;
   set     a valid config with random --set overrides;
   file    an output, shard or checkpoint made at the start of the session, damaged (bit flips,
-          truncation, zeroed ranges), given to verify, merge, resume (run beside it) or read_run.
+          truncation, zeroed ranges), given to verify, merge, resume (run beside it) or read_run;
+  study   a study file or folder damaged, given to python -m granboltz.study (study_files.py);
+  python  granboltz.simulate and Simulation called with odd values, paths, damaged saved states
+          and from two threads (python_api.py).
+The default is the first three; study and python are asked for by name (--families).
 Every case must pass the oracle (check_outcome); a failing case is minimised and written to the
 findings directory as a JSON recipe, which --replay runs again. tests/fuzz/corpus/*.json are
 replayed first and must all pass.
@@ -30,6 +34,7 @@ import tempfile
 import time
 
 import study_files  # the study family (python -m granboltz.study): tests/fuzz/study_files.py
+import python_api  # the family `python`: granboltz.simulate and Simulation (tests/fuzz/python_api.py)
 
 HERE = pathlib.Path(__file__).resolve().parent
 ROOT = HERE.parents[1]
@@ -665,6 +670,8 @@ class Fuzzer:
     def run_case(self, case):
         if case["family"] == "study":
             return study_files.run_case(self, case)
+        if case["family"] == "python":
+            return python_api.run_case(self, case)
         if case["family"] == "file":
             return self.run_file_case(case)
         return self.run_config_case(case)
@@ -845,6 +852,8 @@ def minimise(fuzzer, case, problem, budget=60):
     if case["family"] == "study":
         return study_files.minimise(fuzzer.run_case, case, kind_of, problem)
     case = json.loads(json.dumps(case))
+    if case["family"] == "python":
+        return python_api.minimise(case, still_fails)
     if case["family"] == "file":
         i = 0
         while i < len(case["mutations"]) and len(case["mutations"]) > 1:
@@ -885,8 +894,10 @@ def minimise(fuzzer, case, problem, budget=60):
 
 
 # ------------------------------------------------------------------------------------------ main
-FAMILIES = {"config": config_case, "set": set_case, "file": None, "study": study_files.study_case}
-WEIGHTS = [("config", 0.45), ("set", 0.3), ("file", 0.25), ("study", 0.1)]  # study: only when asked (--families)
+FAMILIES = {"config": config_case, "set": set_case, "file": None,
+            "study": study_files.study_case, "python": python_api.make_case}
+# study and python: only when asked for by name (--families)
+WEIGHTS = [("config", 0.45), ("set", 0.3), ("file", 0.25), ("study", 0.1), ("python", 0.25)]
 
 
 def make_case(seed, k, families):
@@ -1010,6 +1021,7 @@ def main(argv=None):
         return 1 if failures else 0
     finally:
         fz.worker.stop()
+        python_api.stop()
         if fz.sources is not None:
             fz.sources.cleanup()
         if not args.findings and not any(findings_dir.iterdir()):

@@ -210,6 +210,7 @@ void run_to_file(const Config& config, const std::string& path, const DriverOpti
       // SIGTERM (a batch system about to preempt the job): stop now, leaving the checkpoint
       // to resume from and no output; non-zero, so that the job is seen as failed and rerun.
       if (final_checkpoint_requested()) {
+        if (options.on_final_checkpoint) return options.on_final_checkpoint();
         std::fprintf(stderr, "[granboltz] %s: SIGTERM: checkpoint written to %s, stopping\n",
                      options.label.c_str(), checkpoint.c_str());
         remove_temporaries_now();

@@ -2,6 +2,7 @@
 // Particle arrays in a checkpoint: one row (v_x, v_y, v_z, t) per particle, with the weight as a
 // fifth column for weighted particles.
 #include <cmath>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -23,12 +24,21 @@ inline void write_particles(H5Writer& out, const std::string& path, const Partic
 }
 
 /// Reads the rows written by write_particles into p (and weights), resized to their number;
-/// false if the array is not a whole number of rows.
+/// false if a value is not finite. An array that is not (n, 4) (weighted: (n, 5)) float64 is
+/// refused with a message naming it: an edited file, not a state to guess at.
 inline bool read_particles(const H5Reader& in, const std::string& path, Particles& p,
                            std::vector<double>* weights = nullptr) {
-  const auto rows = in.read_double(path);
   const std::size_t cols = weights ? 5 : 4;
-  if (rows.size() % cols) return false;
+  const Dims dims = in.dims(path);
+  if (dims.size() != 2 || dims[1] != cols) {
+    std::string shape = "(";
+    for (std::size_t k = 0; k < dims.size(); ++k)
+      shape += (k ? ", " : "") + std::to_string(dims[k]);
+    throw std::runtime_error(in.path() + ": dataset " + path + ": has shape " + shape +
+                             (dims.size() == 1 ? ",)" : ")") + ", not (n, " +
+                             std::to_string(cols) + ")");
+  }
+  const auto rows = in.read_double(path);
   const std::size_t n = rows.size() / cols;
   p.resize(n);
   if (weights) weights->resize(n);

@@ -37,6 +37,11 @@ struct DriverOptions {
   std::function<void()> on_cancel;
   /// If given, the driver stores the run's completed fraction in [0, 1] here about every 0.1 s.
   std::atomic<double>* fraction = nullptr;
+  /// Called after the final checkpoint that SIGTERM asked for (request_final_checkpoint), from
+  /// the driver's thread, instead of ending the process (the CLI's way): a caller that must
+  /// not end its process (Python) cancels the run here and ends it itself. Unset: the process
+  /// ends with status 128 + SIGTERM.
+  std::function<void()> on_final_checkpoint;
 };
 
 /// Thrown by a run stopped through DriverOptions::cancel.

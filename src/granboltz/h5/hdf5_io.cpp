@@ -132,6 +132,17 @@ std::uint64_t combine(std::vector<std::pair<std::string, std::uint64_t>> hashes)
   return f.h;
 }
 
+// A stored or memory type as NumPy names it ("float64", "uint64", "int32"), for messages and
+// for comparing a dataset's type with the one a reader asks for (byte order aside).
+std::string type_name(hid_t type) {
+  const H5T_class_t cls = H5Tget_class(type);
+  const std::string bits = std::to_string(8 * H5Tget_size(type));
+  if (cls == H5T_FLOAT) return "float" + bits;
+  if (cls == H5T_INTEGER) return (H5Tget_sign(type) == H5T_SGN_NONE ? "uint" : "int") + bits;
+  if (cls == H5T_STRING) return "string";
+  return "an HDF5 type of class " + std::to_string(static_cast<int>(cls));
+}
+
 hsize_t product(const Dims& dims) {
   hsize_t n = 1;
   for (auto d : dims) n *= d;
@@ -461,6 +472,12 @@ Dims H5Reader::dims(const std::string& path) const {
 void H5Reader::read_raw(const std::string& path, hid_t mem_type, void* out,
                         std::size_t count) const {
   Handle ds{open_dataset(path), H5Dclose};
+  // Stored as it is asked for, or refused: HDF5 would convert an edited dataset (integers cast
+  // to int32, velocities to float32) silently, and the reader would take rounded values.
+  Handle type{H5Dget_type(ds.id), H5Tclose};
+  if (type_name(type.id) != type_name(mem_type))
+    fail(path_ + ": dataset " + path + ": has dtype " + type_name(type.id) + ", not " +
+         type_name(mem_type));
   if (count > 0) read_checked(ds.id, path, mem_type, out);
 }
 
@@ -498,6 +515,7 @@ std::string H5Reader::attr_string(const std::string& object, const std::string& 
     char* s = nullptr;
     Handle mem{H5Tcopy(H5T_C_S1), H5Tclose};
     H5Tset_size(mem.id, H5T_VARIABLE);
+    H5Tset_cset(mem.id, H5Tget_cset(type.id));  // HDF5 converts no ASCII <-> UTF-8 (h5py's str)
     if (H5Aread(a.id, mem.id, &s) < 0) fail(path_ + ": cannot read attribute " + name);
     std::string out = s ? s : "";
     H5free_memory(s);
@@ -574,6 +592,7 @@ std::vector<std::string> H5Reader::damaged() const {
       std::vector<char*> strings(static_cast<std::size_t>(n), nullptr);
       const Handle mem{H5Tcopy(H5T_C_S1), H5Tclose};
       H5Tset_size(mem.id, H5T_VARIABLE);
+      H5Tset_cset(mem.id, H5Tget_cset(type.id));  // no ASCII <-> UTF-8 conversion in HDF5
       const herr_t status = H5Aread(a.id, mem.id, strings.data());
       for (char* s : strings) H5free_memory(s);
       return status < 0 ? -1 : 0;

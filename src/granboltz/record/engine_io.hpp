@@ -16,8 +16,15 @@ inline void write_engine(H5Writer& out, const std::string& path, const Engine& e
 }
 
 inline Engine read_engine(const H5Reader& in, const std::string& path) {
+  if (in.dims(path) != Dims{5})
+    throw std::runtime_error(in.path() + ": dataset " + path + ": malformed stream state (not 5 words)");
   const auto v = in.read_uint64(path);
-  if (v.size() != 5) throw std::runtime_error(in.path() + ": malformed stream state " + path);
+  // The all-zero state is xoshiro256++'s fixed point: it would draw zeros forever, and samplers
+  // that reject a zero would never return. make_stream never starts there; only an edit can.
+  if ((v[0] | v[1] | v[2] | v[3]) == 0)
+    throw std::runtime_error(in.path() + ": dataset " + path +
+                             ": a random stream in the all-zero state (a fixed point of "
+                             "xoshiro256++), which no run reaches: the file was edited");
   return Engine({v[0], v[1], v[2], v[3]}, v[4]);
 }
 

@@ -29,7 +29,7 @@ Modules, one concern each (import the one you need; nothing heavy is imported he
                  study_yaml, study_spec, study_folder, study_runs, study_snakemake
     report       the reproduction report (subpackage)
     inprocess    the simulator in this process (extension granboltz._core): simulate, Simulation,
-                 ConfigError, also on the package itself
+                 ConfigError, SimulationBusyError, also on the package itself
 """
 
 __version__ = "0.1.0"
@@ -50,7 +50,7 @@ def __getattr__(name):
         from .io import RunReadError
 
         return RunReadError
-    if name in ("simulate", "Simulation", "ConfigError"):
+    if name in ("simulate", "Simulation", "ConfigError", "SimulationBusyError"):
         # The compiled extension granboltz._core, loaded on first use (module granboltz.inprocess).
         import importlib
 

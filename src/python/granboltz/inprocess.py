@@ -10,13 +10,12 @@ raise ConfigError (a ValueError) with the CLI's one-line message, naming the key
 docs/python.md, "Running from Python".
 """
 
+import numbers
 import os
-import pathlib
 import shutil
-import signal
+import stat
 import sys
 import tempfile
-import threading
 
 import numpy as np
 import yaml
@@ -28,93 +27,74 @@ except ImportError as e:  # pragma: no cover - the message is the point
         "granboltz._core, the simulator's Python extension, is not built: run `make build` "
         f"(needs Debian's pybind11-dev and python3-dev; see docs/python.md) ({e})") from e
 
+from .io import RunReadError
+
 ConfigError = _core.ConfigError
 ConfigError.__module__ = "granboltz"
 ConfigError.__doc__ = ("A config the simulator refuses: the message is the CLI's, naming the key "
                        "(e.g. 'dsmc.alpha = 1.5: must satisfy 0 < alpha <= 1'). A ValueError.")
+SimulationBusyError = _core.SimulationBusyError
+SimulationBusyError.__module__ = "granboltz"
+SimulationBusyError.__doc__ = (
+    "A call on a granboltz.Simulation while another thread is inside one of its calls (advance "
+    "releases the GIL): refused at once, nothing is changed. One Simulation is used by one thread "
+    "at a time; give each thread its own. A RuntimeError.")
 
-__all__ = ["simulate", "Simulation", "ConfigError"]
+__all__ = ["simulate", "Simulation", "ConfigError", "SimulationBusyError"]
 
-
-def _config_text(config):
-    """(YAML text, origin for messages) of a config dict or a path to a YAML file."""
-    if isinstance(config, dict):
-        return yaml.safe_dump(config, sort_keys=False), "<config dict>"
-    if isinstance(config, (str, os.PathLike)):
-        path = pathlib.Path(config)
-        if not path.is_file():
-            raise FileNotFoundError(f"config file {str(path)!r}: no such file")
-        return path.read_text(), str(path)
-    raise TypeError(f"config must be a dict or a path to a YAML file, not {type(config).__name__}")
-
-
-def _sigint_pauses():
-    """Whether SIGINT should pause an advance: only where Python itself would raise
-    KeyboardInterrupt (the main thread, Python's default handler). An ignored SIGINT (a job
-    started in the background or under nohup) stays ignored, and a handler of the user's own
-    runs, as Python runs it, once advance returns."""
-    return (threading.current_thread() is threading.main_thread()
-            and signal.getsignal(signal.SIGINT) is signal.default_int_handler)
-
-
-class _Bar:
-    """A tqdm bar (tqdm.auto: the notebook widget or the terminal) over the run's fraction."""
-
-    def __init__(self, label):
-        from tqdm.auto import tqdm
-
-        self._bar = tqdm(total=1000, desc=label, unit="‰", leave=True,
-                         bar_format="{desc}: {percentage:3.0f}%|{bar}| [{elapsed}<{remaining}]")
-        self._n = 0
-
-    def __call__(self, fraction):
-        n = min(1000, max(self._n, int(round(1000 * fraction))))
-        if n > self._n:
-            self._bar.update(n - self._n)
-            self._n = n
-
-    def close(self):
-        self._bar.close()
+from ._arguments import MAX_THREADS, _config_text, _integer, _path, _short  # noqa: E402
+from ._progress import _Bar, _sigint_pauses  # noqa: E402
 
 
 def simulate(config, output=None, threads=None, progress=True):
     """Run a config in-process, as `granboltz run config -o output` does, and return its Run
     (granboltz.read_run).
 
-    config: a dict (dumped to YAML) or a path to a YAML file, validated by the simulator's
-    parse_config: a refused config raises ConfigError naming the key, a missing file
-    FileNotFoundError. output: the HDF5 file to write; None: a temporary file, read fully into
-    memory (histograms included) and removed before returning, so the Run does not depend on any
-    file (its .path names the removed file). threads: worker threads (None: the config's
-    `threads`, whose default 0 means all cores; never changes results). progress: a tqdm bar
-    while it runs; False: nothing is printed.
+    config: a dict (dumped to YAML; NumPy scalars and arrays as the numbers and lists they hold)
+    or a path to a YAML file, validated by the simulator's parse_config: a refused config raises
+    ConfigError naming the key, a missing file FileNotFoundError. output: the HDF5 file to write
+    (str, bytes or os.PathLike; never the config file itself, a link, a directory or a FIFO:
+    RuntimeError before anything is written); None: a temporary file, read fully into memory
+    (histograms included) and removed before returning, so the Run does not depend on any file
+    (its .path names the removed file). threads: worker threads, an integer 0..1024 (None: the
+    config's `threads`, whose default 0 means all cores; never changes results). progress: a
+    tqdm bar while it runs; False: nothing is printed.
 
     The GIL is released while the simulator runs. Ctrl-C (SIGINT) stops the run within about a
     tenth of a second (intruder and needle runs: once their ensembles under way end), removes
     its temporary files and raises KeyboardInterrupt. Python's own setting for SIGINT decides:
     an ignored SIGINT (a background or nohup job) is ignored, and a handler of your own runs
-    instead of the stop (the run goes on unless the handler raises).
+    instead of the stop (the run goes on unless the handler raises). SIGTERM under Python's
+    default (the process would die of it) ends the process as `granboltz run` does: a config
+    with `checkpoint` writes a last checkpoint, the run stops and its temporary files go, and
+    the process then dies of SIGTERM; a handler of your own or an ignored SIGTERM is respected
+    as for SIGINT.
     """
     from .run import read_run
 
-    text, origin = _config_text(config)
-    if threads is not None and (int(threads) != threads or threads < 0):
-        raise ValueError(f"threads = {threads!r}: must be an integer >= 0 (0: all cores)")
+    text, origin, config_path = _config_text(config)
+    if threads is not None:
+        threads = _integer("threads", threads, 0, MAX_THREADS, f"0 <= threads <= {MAX_THREADS} (0: all cores)")
+    if output is not None:
+        output, output_raw = _path(output, "output")
     _core.normalized_config(text, origin)  # a refused config fails before any file is made
     tmpdir = None
     if output is None:
         tmpdir = tempfile.mkdtemp(prefix="granboltz-simulate-")
-        path = os.path.join(tmpdir, "run.h5")
-    else:
-        path = os.fspath(output)
-    bar = _Bar(os.path.basename(origin) if origin != "<config dict>" else "granboltz") if progress else None
+        output = os.path.join(tmpdir, "run.h5")
+        output_raw = os.fsencode(output)
+    shown = os.fsdecode(origin)
+    bar = _Bar(os.path.basename(shown) if config_path else "granboltz") if progress else None
+    terminated = False
     try:
-        _core.run_file(text, origin, path, None if threads is None else int(threads), bar,
-                       f"granboltz.simulate({origin})")
+        terminated = _core.run_file(text, origin, config_path, output_raw, threads, bar,
+                                    f"granboltz.simulate({shown})".encode("utf-8", "backslashreplace"))
+        if terminated:
+            return None  # the finally clause cleans up and ends the process
         if bar is not None:
             bar.close()
             bar = None
-        run = read_run(path)
+        run = read_run(output)
         if tmpdir is not None:
             for name in run.histograms:  # read now: the file goes away
                 run.histograms[name]
@@ -124,6 +104,11 @@ def simulate(config, output=None, threads=None, progress=True):
             bar.close()
         if tmpdir is not None:
             shutil.rmtree(tmpdir, ignore_errors=True)
+        if terminated:
+            # SIGTERM under its default disposition: the run stopped (a checkpoint, if the
+            # config has one, is written); the process now ends as the signal asked.
+            sys.stderr.flush()
+            _core.end_by_sigterm()
 
 
 def _observation(scalars, moments, d, prefix=""):
@@ -156,7 +141,9 @@ class Simulation:
 
     sim.advance(t)   to the absolute time t >= sim.time (splitting schemes: t on the step grid);
                      Ctrl-C stops at a safe point and raises KeyboardInterrupt; the object stays
-                     usable, and a later advance gives the same bits as an uninterrupted one
+                     usable, and a later advance gives the same bits as an uninterrupted one.
+                     The GIL is released: a call on the same object from another thread
+                     meanwhile raises SimulationBusyError (one Simulation, one thread at a time)
     sim.run()        advance(t_end)
     sim.time, sim.t_end, sim.ensemble, sim.dimension, sim.config (dict), sim.counts (dict)
     sim.velocities   a copy, shape (n, d)
@@ -167,35 +154,68 @@ class Simulation:
     """
 
     def __init__(self, config, ensemble=0, _core_sim=None):
+        self._config_file = b""  # the config's file, which save() never replaces
         if _core_sim is not None:
             self._sim = _core_sim
         else:
-            text, origin = _config_text(config)
-            if int(ensemble) != ensemble or ensemble < 0:
-                raise ValueError(f"ensemble = {ensemble!r}: must be an integer >= 0")
-            self._sim = _core.Simulation(text, origin, int(ensemble))
+            text, origin, self._config_file = _config_text(config)
+            ensemble = _integer("ensemble", ensemble, 0, 2**64 - 1,
+                                "0 <= ensemble < the config's ensembles")
+            self._sim = _core.Simulation(text, origin, ensemble)
         self._config = yaml.safe_load(self._sim.config_text)
 
     @classmethod
     def restore(cls, path):
-        """The Simulation saved by save(path), to continue exactly where it was."""
-        path = os.fspath(path)
-        if not os.path.isfile(path):
-            raise FileNotFoundError(f"simulation state {path!r}: no such file")
-        return cls(None, _core_sim=_core.Simulation.restore(path))
+        """The Simulation saved by save(path), to continue exactly where it was. The file is
+        checked as a checkpoint is: a missing file raises FileNotFoundError; anything else that
+        is not a state saved by this granboltz — a directory, a FIFO, not HDF5, damaged, edited
+        (its datasets against the digest save() wrote, its config against its hash), a dataset
+        of the wrong shape or dtype, a random stream in the all-zero state, a state without a
+        digest (older versions) — raises granboltz.RunReadError naming the file and, where one
+        is to blame, the dataset."""
+        shown, raw = _path(path, "simulation state")
+        try:  # before opening: a FIFO would block, and HDF5 would call a directory "no such file"
+            mode = os.stat(raw).st_mode
+        except FileNotFoundError:
+            raise FileNotFoundError(f"simulation state {shown!r}: no such file") from None
+        except OSError as e:
+            raise RunReadError(shown, "the file", f"cannot open it ({e.strerror})") from None
+        if stat.S_ISDIR(mode):
+            raise RunReadError(shown, "the file", "is a directory, not a simulation state")
+        if not stat.S_ISREG(mode):
+            raise RunReadError(shown, "the file", "is not a regular file (a FIFO or a device?), "
+                                                  "not a simulation state")
+        try:
+            core = _core.Simulation.restore(raw)
+        except _core.StateError as e:
+            message = str(e)
+            problem = message.split(": ", 1)[1] if message.startswith(shown + ": ") else message
+            raise RunReadError(shown, "the file", problem, message=message) from None
+        return cls(None, _core_sim=core)
 
     def save(self, path):
-        """Write the engine's state (particles, streams, majorant, counts) and the config to the
-        HDF5 file `path` (atomically: a temporary name, renamed when complete)."""
-        self._sim.save(os.fspath(path))
+        """Write the engine's state (particles, streams, majorant, counts), the config with its
+        hash and a digest of the datasets to the HDF5 file `path` (atomically: a temporary name,
+        renamed when complete; never through a link, over a directory, a FIFO or the config file
+        this Simulation was made from: RuntimeError naming the path)."""
+        self._sim.save(_path(path, "save path")[1], self._config_file)
 
     def advance(self, t):
-        """Advance to the absolute time t (>= time; for the euler and strang schemes a multiple
-        of dt = t_end/steps). The GIL is released meanwhile. Ctrl-C (SIGINT, in the main thread,
-        under Python's default handler; an ignored SIGINT stays ignored) stops at the engine's
-        next safe point and raises KeyboardInterrupt; time is then where it stopped, and a later
-        advance(t) continues exactly as if it had not."""
-        if not self._sim.advance(float(t), _sigint_pauses()):
+        """Advance to the absolute time t (a real number, time <= t <= t_end; for the euler and
+        strang schemes a multiple of dt = t_end/steps). The GIL is released meanwhile, and any other
+        call on this object from another thread raises SimulationBusyError until advance
+        returns. Ctrl-C (SIGINT, in the main thread, under Python's default handler; an ignored
+        SIGINT stays ignored) stops at the engine's next safe point and raises
+        KeyboardInterrupt; time is then where it stopped, and a later advance(t) continues
+        exactly as if it had not."""
+        if isinstance(t, (bool, np.bool_)) or not isinstance(t, numbers.Real):
+            raise TypeError(f"advance(t): t = {_short(t)}: must be a real number (a time), "
+                            f"not a {type(t).__name__}")
+        try:
+            value = float(t)
+        except OverflowError:
+            raise ValueError(f"advance({_short(t, 40)}): t must be finite and >= time") from None
+        if not self._sim.advance(value, _sigint_pauses()):
             raise KeyboardInterrupt(f"granboltz.Simulation.advance({t}) interrupted at t = {self.time}")
         return self
 
@@ -259,6 +279,9 @@ class Simulation:
         return out
 
     def __repr__(self):
-        return (f"granboltz.Simulation(engine={self._sim.engine}, ensemble={self.ensemble}, "
-                f"n={len(self.velocities)}, d={self.dimension}, time={self.time!r}, "
-                f"t_end={self.t_end!r})")
+        head = f"granboltz.Simulation(engine={self._sim.engine}, ensemble={self.ensemble}, "
+        try:
+            n, time = self._sim.particle_count, self.time
+        except SimulationBusyError:
+            return head + f"d={self.dimension}, busy in another thread, t_end={self.t_end!r})"
+        return head + f"n={n}, d={self.dimension}, time={time!r}, t_end={self.t_end!r})"
