@@ -175,7 +175,11 @@ def same_value_numpy(rng, value):
         kinds = ["int64", "uint64", "int32"] + (["uint8", "int16"] if 0 <= value < 128 else [])
         if 0 <= value < 2**31:
             return rng.choice([{"$np": rng.choice(kinds), "v": value}, {"$arr": "int64", "v": value}])
-        return {"$np": "int64", "v": value}
+        if -(2**63) <= value < 2**63:
+            return {"$np": "int64", "v": value}
+        if 0 <= value < 2**64:
+            return {"$np": "uint64", "v": value}
+        return value  # no NumPy integer holds it: stays a Python int
     if isinstance(value, float):
         kinds = ["float64", "longdouble"] + (["float32", "float16"] if value in (0.0, 0.25, 0.5, 1.0, 2.0, 3.0, 4.0) else [])
         return rng.choice([{"$np": rng.choice(kinds), "v": value}, {"$arr": "float64", "v": value}])
