@@ -516,12 +516,12 @@ def damage_folder(d, folder, hashes, damage, outside):
             locks.mkdir(parents=True, exist_ok=True)
             for name in m["names"]:
                 (locks / name).write_text(f"{folder}/runs/{h}.h5\n")
-        elif op == "held_lock":
+        elif op == "held_lock":  # another runner: it holds the folder's flock and wrote its pid
             path = folder / ".runner.lock"
             if path.is_file() and not path.is_symlink() and held is None:
-                held = os.open(path, os.O_RDWR)
+                held = os.open(folder, os.O_RDONLY | os.O_DIRECTORY)
                 fcntl.flock(held, fcntl.LOCK_EX)
-                os.pwrite(held, b"999999\n", 0)
+                path.write_bytes(b"999999\n")
         elif op == "tmp":
             (folder / "runs").mkdir(exist_ok=True)
             (folder / "runs" / f"{h}.h5.tmp.4194303.AbCdEf").write_bytes(b"\0" * m["size"])

@@ -224,6 +224,13 @@ def test_sigterm_to_the_runner_stops_snakemake_and_the_simulator_and_a_second_ru
     assert second.returncode == 2 and second.stderr.count("\n") == 1, second.stderr
     assert f"another `granboltz.study run` of this study, or the Snakemake it started, is running (runner pid {runner.pid})" \
         in second.stderr
+    # The lock is the folder's, not the file's: a .runner.lock deleted, or replaced by a FIFO,
+    # lets no second runner in (the pid is then unknown).
+    for plant in (lambda p: None, os.mkfifo):
+        (folder / gs.LOCK_NAME).unlink(missing_ok=True)
+        plant(folder / gs.LOCK_NAME)
+        again = cli(tmp_path, "run", "s.yaml")
+        assert again.returncode == 2 and "is running; wait for it" in again.stderr, again.stderr
     runner.send_signal(signal.SIGTERM)
     _, err = runner.communicate(timeout=30)
     assert runner.returncode == 143, err

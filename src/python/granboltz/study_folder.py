@@ -95,33 +95,62 @@ LOCK_NAME = ".runner.lock"
 
 @contextlib.contextmanager
 def _runner_lock(folder):
-    """Hold the study folder's runner lock (flock on .runner.lock, which also holds the runner's
-    pid); yields the lock's file descriptor, to be inherited by Snakemake so that the lock lives
-    as long as the runner or its Snakemake does, or None where the file system has no flock.
-    StudyError when another runner holds it."""
+    """Hold the study folder's runner lock: flock on the folder itself, so that no file deleted
+    or planted inside it (a FIFO or a new file in place of .runner.lock) can let a second runner
+    in; .runner.lock holds the runner's pid for the message. Yields the lock's file descriptor,
+    to be inherited by Snakemake so that the lock lives as long as the runner or its Snakemake
+    does, or None where the file system has no flock. StudyError when another runner holds it."""
     folder.mkdir(parents=True, exist_ok=True)
     path = folder / LOCK_NAME
-    st = _lstat(path)
-    if st is not None and not stat.S_ISREG(st.st_mode):
-        _move_aside(path, folder)
     try:
-        fd = os.open(path, os.O_RDWR | os.O_CREAT | os.O_NOFOLLOW | os.O_NONBLOCK | os.O_CLOEXEC, 0o644)
+        lock = os.open(folder, os.O_RDONLY | os.O_DIRECTORY | os.O_CLOEXEC)
     except OSError as e:
-        raise StudyError(f"{path}: cannot open the runner lock ({e.strerror or e})") from None
+        raise StudyError(f"{folder}: cannot open the study folder ({e.strerror or e})") from None
     try:
         try:
-            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
             held = True
         except BlockingIOError:
-            pid = os.pread(fd, 40, 0).decode(errors="replace").split()
+            pid = _read_pid(path)
             raise StudyError(f"{folder}: another `granboltz.study run` of this study, or the Snakemake it "
-                             f"started, is running{' (runner pid ' + pid[0] + ')' if pid and pid[0].isdigit() else ''}; "
+                             f"started, is running{' (runner pid ' + pid + ')' if pid else ''}; "
                              "wait for it or stop it (SIGTERM)") from None
         except OSError:  # no flock here (some network file systems): no stale-lock recovery either
             held = False
         if held:
-            os.ftruncate(fd, 0)
-            os.pwrite(fd, f"{os.getpid()}\n".encode(), 0)
-        yield fd if held else None
+            _write_pid(path, folder)
+        yield lock if held else None
+    finally:
+        os.close(lock)
+
+
+def _read_pid(path):
+    """The pid in .runner.lock if it is a regular file that holds one, else ""."""
+    try:
+        fd = os.open(path, os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK | os.O_CLOEXEC)
+    except OSError:
+        return ""
+    try:
+        if not stat.S_ISREG(os.fstat(fd).st_mode):
+            return ""
+        words = os.pread(fd, 40, 0).decode(errors="replace").split()
+    finally:
+        os.close(fd)
+    return words[0] if words and words[0].isdigit() else ""
+
+
+def _write_pid(path, folder):
+    """Write this runner's pid to .runner.lock (with the folder's lock held): anything but a
+    regular file there is moved aside to damaged/ first, and a link is never followed."""
+    st = _lstat(path)
+    if st is not None and not stat.S_ISREG(st.st_mode):
+        _move_aside(path, folder)
+    try:
+        fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_NOFOLLOW | os.O_NONBLOCK | os.O_CLOEXEC, 0o644)
+    except OSError as e:
+        raise StudyError(f"{path}: cannot open the runner lock ({e.strerror or e})") from None
+    try:
+        os.ftruncate(fd, 0)
+        os.pwrite(fd, f"{os.getpid()}\n".encode(), 0)
     finally:
         os.close(fd)
