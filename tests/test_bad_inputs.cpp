@@ -302,7 +302,7 @@ TEST(BadInputsManifest, HasEnoughCasesAndEveryConfigFileIsACase) {
 }
 
 TEST(BadInputsManifest, BaseConfigsAreValidSoThatEveryCaseFailsForItsOwnReason) {
-  for (const char* model : {"dsmc", "intruder", "needle"}) {
+  for (const char* model : {"dsmc", "dsmc_observe", "intruder", "needle"}) {
     const Outcome o = run_binary({"validate", kCasesDir + "/base/" + model + ".yaml"});
     EXPECT_TRUE(o.exited && o.code == 0) << model << ": " << describe(o);
   }

@@ -349,6 +349,33 @@ TEST(Estimate, GeneralGasEventsFollowTheSpeciesAndTheSpins) {
                                    "dsmc.restitution={law: viscoelastic, delta: 0.2}"}, 0.15);
 }
 
+namespace {
+// A config text without its observe_every line, for dsmc.observe (both keys are refused).
+std::string without_observe_every(std::string text) {
+  const auto at = text.find("  observe_every:");
+  return text.erase(at, text.find('\n', at) + 1 - at);
+}
+}  // namespace
+
+TEST(Estimate, LogAndListedObservationTimesAreCounted) {
+  // n kicks per observation (no splitting, beta > 0): 1 000 of them over 3.3 decades, most of
+  // the kicks counted.
+  const std::string hs = without_observe_every(kHardSpheres), mix = without_observe_every(kMixture);
+  expect_estimate_matches(hs.c_str(), {"dsmc.observe={log: {from: 0.001, per_decade: 300}}"});
+  // The general gas resets its bounds at every observation: under the Gaussian thermostat they
+  // grow between two by e^(lambda zeta gap/2), so the gaps of the grid, not their mean, set the
+  // fictitious candidates (one by one up to 1000 resets, by the gap around each time beyond).
+  const std::string gauss[] = {"dsmc.thermostat=gaussian", "dsmc.beta=0"};
+  for (const char* observe : {"dsmc.observe={times: [0.05, 0.1]}",
+                              "dsmc.observe={log: {from: 0.001, per_decade: 4}}"}) {
+    expect_estimate_matches(mix.c_str(), {observe}, 0.15);
+    expect_estimate_matches(mix.c_str(), {gauss[0], gauss[1], observe}, 0.15);
+  }
+  expect_estimate_matches(mix.c_str(), {gauss[0], gauss[1], "dsmc.t_end=1",
+                                        "dsmc.observe={log: {from: 0.0001, per_decade: 251}}"},
+                          0.15);
+}
+
 // ---- Wall time against the CPU time measured, every engine ----
 
 namespace {

@@ -642,8 +642,17 @@ DsmcEvents gas_events(const DsmcConfig& d) {
   const double steps = split ? static_cast<double>(d.steps) : 0.0;
   // The bounds are reset at every observation, and at every step of a heated splitting run.
   const double resets = heated && split ? steps : observations;
-  const double period = d.t_end / resets;
+  double period = d.t_end / resets;
   const bool exact = resets <= kExactResets;
+  // dsmc.observe: the resets at its times, period then the gap between the two around now.
+  const std::vector<double>* listed =
+      !(heated && split) && !d.observe_times.empty() ? &d.observe_times : nullptr;
+  std::size_t next_index = 0;
+  auto gap_at = [&](double at) {
+    auto it = std::upper_bound(listed->begin(), listed->end(), at);
+    if (it == listed->end()) --it;
+    return *it - (it == listed->begin() ? 0.0 : *(it - 1));
+  };
   std::vector<double> x = g.initial(), f, seen_rate(K), peak(x.begin(), x.begin() + K);
   std::vector<double> seen(K), R(K), bound(K);
   // Under the Gaussian thermostat the engine keeps velocities and bounds in stored units that
@@ -674,7 +683,8 @@ DsmcEvents gas_events(const DsmcConfig& d) {
     }
   };
   DsmcEvents e;
-  double t = 0.0, next_reset = period, rate = 0.0;
+  double t = 0.0, next_reset = listed ? listed->front() : period, rate = 0.0;
+  if (listed) period = gap_at(t);
   reset();
   g.rhs(x, f, &rate, &seen_rate);
   double cand = lambda == 0.0 ? rate : g.candidate_rate(R);
@@ -685,6 +695,7 @@ DsmcEvents gas_events(const DsmcConfig& d) {
   bool steady = false;
   for (int step = 0; t < d.t_end; ++step) {
     double h = d.t_end - t;
+    if (listed) period = gap_at(t);
     // Steady: what is left would change no temperature by 1e-4; the rates then change only
     // with the bounds, the same in every interval between resets.
     double change = 0.0;
@@ -694,7 +705,18 @@ DsmcEvents gas_events(const DsmcConfig& d) {
     if (steady || step == kMaxSteps) {
       if (!exact || lambda == 0.0) {  // the rates of now to the end
         e.collisions += h * rate;
-        e.candidates += h * cand;
+        if (listed && lambda != 0.0) {  // each gap to come with the bounds of its length
+          double from = t;
+          for (auto it = std::upper_bound(listed->begin(), listed->end(), t); it != listed->end();
+               ++it) {
+            period = *it - (it == listed->begin() ? 0.0 : *(it - 1));
+            bounds_now(seen_rate);
+            e.candidates += (*it - from) * g.candidate_rate(R);
+            from = *it;
+          }
+        } else {
+          e.candidates += h * cand;
+        }
         break;
       }
       // One interval from the next reset on, by sixteen pieces (the bounds grow like
@@ -713,8 +735,13 @@ DsmcEvents gas_events(const DsmcConfig& d) {
       };
       const double rest = std::min(next_reset, d.t_end) - t;
       e.candidates += interval(rest, false);
-      const double whole = std::round((d.t_end - std::min(next_reset, d.t_end)) / period);
-      if (whole > 0.0) e.candidates += whole * interval(period, true);
+      if (listed) {
+        for (std::size_t i = next_index + 1; i < listed->size(); ++i)
+          e.candidates += interval((*listed)[i] - (*listed)[i - 1], true);
+      } else {
+        const double whole = std::round((d.t_end - std::min(next_reset, d.t_end)) / period);
+        if (whole > 0.0) e.candidates += whole * interval(period, true);
+      }
       e.collisions += h * rate;
       break;
     }
@@ -790,7 +817,10 @@ DsmcEvents gas_events(const DsmcConfig& d) {
     t += h;
     if (exact && t >= next_reset * (1.0 - 1e-12)) {
       t = next_reset;
-      next_reset += period;
+      if (listed)
+        next_reset = ++next_index < listed->size() ? (*listed)[next_index] : 2.0 * d.t_end;
+      else
+        next_reset += period;
       reset();
       cand = lambda == 0.0 ? rate : g.candidate_rate(R);
     }
@@ -1296,6 +1326,8 @@ std::vector<Suspect> suspects(const Config& config) {
                  [](Config& c) { c.dsmc.initial_temperature = 1.0; }});
     s.push_back({"dsmc.t_end", d.t_end, [](Config& c) {
                    c.dsmc.observe_every /= c.dsmc.t_end;
+                   for (double& t : c.dsmc.observe_times) t /= c.dsmc.t_end;
+                   c.dsmc.observe_log_from /= c.dsmc.t_end;
                    c.dsmc.t_end = 1.0;
                  }});
     s.push_back({"dsmc.particles", static_cast<double>(d.particles),

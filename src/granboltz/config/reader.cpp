@@ -514,6 +514,19 @@ std::vector<Section> Section::list(const std::string& key, std::size_t max) cons
   return out;
 }
 
+std::vector<double> Section::reals(const std::string& key, std::size_t max) const {
+  const YAML::Node n = at(key, "a list of numbers", false);
+  if (!n.IsSequence() || n.size() == 0)
+    throw ConfigError(name(key) + " = " + shown(n) + ": must be a non-empty list of numbers");
+  if (n.size() > max)
+    throw ConfigError(name(key) + ": " + std::to_string(n.size()) + " entries: at most " +
+                      std::to_string(max) + " allowed");
+  std::vector<double> out;
+  out.reserve(n.size());
+  for (const auto& x : n) out.push_back(real_of(x, key + "[" + std::to_string(out.size()) + "]"));
+  return out;
+}
+
 std::vector<double> Section::matrix(const std::string& key, std::size_t size) const {
   const YAML::Node n = at(key, "a matrix", false);
   const std::string shape = std::to_string(size) + " x " + std::to_string(size);

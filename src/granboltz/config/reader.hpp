@@ -71,6 +71,8 @@ class Section {
   bool is_mapping(const std::string& key) const;
   /// A required sequence of mappings, each a section named "<key>[i]"; at most `max` entries.
   std::vector<Section> list(const std::string& key, std::size_t max) const;
+  /// A required non-empty list of finite numbers, each named "<key>[i]"; at most `max` entries.
+  std::vector<double> reals(const std::string& key, std::size_t max) const;
   /// A required square matrix of finite numbers written as a sequence of `size` sequences.
   std::vector<double> matrix(const std::string& key, std::size_t size) const;
   /// A required plain text of 1..64 characters from [A-Za-z0-9_-] (a name used in output paths).

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <type_traits>
 #include <variant>
@@ -71,8 +72,84 @@ const char* reduction_name(Reduction r) {
 }
 
 std::uint64_t DsmcConfig::observations() const {
+  if (!observe_times.empty()) return observe_times.size();
   return static_cast<std::uint64_t>(std::llround(t_end / observe_every));
 }
+
+namespace {
+// The most observation times a run may have (rows = times + 1), as for observe_every.
+constexpr double kMaxObservations = 1e7;
+
+std::string decades_text(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", x);
+  return buf;
+}
+
+// dsmc.observe: {log: {from: t1, per_decade: k}} or {times: [t_1, ...]}, in place of
+// observe_every; t = 0 is observed anyway and t_end always (appended to a list that stops short).
+// Under a splitting scheme the log grid is rounded to the nearest time steps (coinciding ones
+// and any at 0 dropped), a listed time off the steps is refused.
+void read_observe(const Section& s, DsmcConfig& c) {
+  const Section o = s.sub("observe");
+  o.finish({"log", "times"});
+  if (o.has("log") == o.has("times"))
+    throw ConfigError(s.name("observe") + ": " +
+                      (o.has("log") ? "give either log or times, not both"
+                                    : "needs log: {from: t1, per_decade: k} or times: [t_1, ...]"));
+  const bool split = c.scheme != Scheme::kNoSplit;
+  const double dt = split ? c.time_step() : 0.0;
+  std::vector<double>& t = c.observe_times;
+  if (o.has("log")) {
+    const Section l = o.sub("log");
+    c.observe_log_from = l.real("from");
+    const double from = c.observe_log_from;
+    l.check(from > 0 && from <= c.t_end, "from", from,
+            "must satisfy 0 < from <= t_end = " + format_real(c.t_end));
+    c.observe_per_decade =
+        l.integer("per_decade", {1, 10'000'000, "must satisfy 1 <= per_decade <= 10^7"});
+    l.finish({"from", "per_decade"});
+    const double k = static_cast<double>(c.observe_per_decade);
+    const double decades = std::log10(c.t_end / from);
+    l.check(k * decades + 2.0 <= kMaxObservations, "per_decade", k,
+            "gives more than 10^7 observation times over the " + decades_text(decades) +
+                " decades from " + format_real(from) + " to t_end = " + format_real(c.t_end));
+    // t1 10^(j/k) below t_end (one within the tolerance of t_end is t_end itself).
+    for (std::uint64_t j = 0;; ++j) {
+      double x = from * std::pow(10.0, static_cast<double>(j) / k);
+      if (!(x < c.t_end * (1.0 - kTimeTolerance))) break;
+      if (split) {
+        const auto step = std::llround(x / dt);
+        if (step <= 0 || static_cast<std::uint64_t>(step) >= c.steps) continue;
+        x = static_cast<double>(step) * dt;
+        if (!t.empty() && x <= t.back()) continue;
+      }
+      t.push_back(x);
+    }
+  } else {
+    t = o.reals("times", static_cast<std::size_t>(kMaxObservations));
+    for (std::size_t i = 0; i < t.size(); ++i) {
+      const std::string key = "times[" + std::to_string(i) + "]";
+      o.check(t[i] > 0 && t[i] <= c.t_end, key, t[i],
+              "must satisfy 0 < t <= t_end = " + format_real(c.t_end) +
+                  " (t = 0 is always observed)");
+      if (i > 0)
+        o.check(t[i] > t[i - 1], key, t[i],
+                "must be greater than times[" + std::to_string(i - 1) + "] = " +
+                    format_real(t[i - 1]) + " (the times must increase)");
+      if (split)
+        o.check(is_multiple(t[i], dt), key, t[i],
+                "must be a whole multiple of the time step t_end/steps = " + format_real(dt) +
+                    " (scheme " + scheme_name(c.scheme) + ")");
+    }
+    // (a config holds at most kMaxNodes values, far fewer: kept for a config built otherwise)
+    if (static_cast<double>(t.size()) >= kMaxObservations && t.back() < c.t_end)
+      o.check(false, "times", static_cast<double>(t.size()),
+              "entries and t_end make more than 10^7 observation times");
+  }
+  if (t.empty() || t.back() < c.t_end) t.push_back(c.t_end);
+}
+}  // namespace
 
 namespace {
 // dsmc.species: names, fractions, masses, diameters; counts by the largest remainder of x_a n
@@ -246,14 +323,20 @@ DsmcConfig read_dsmc(const Section& s) {
 
   c.t_end = s.real("t_end");
   s.check(c.t_end > 0, "t_end", c.t_end, "must be > 0");
-  c.observe_every = s.real("observe_every", c.t_end);
-  s.check(c.observe_every > 0 && c.observe_every <= c.t_end, "observe_every", c.observe_every,
-          "must satisfy 0 < observe_every <= t_end");
-  s.check(is_multiple(c.t_end, c.observe_every), "observe_every", c.observe_every,
-          "t_end = " + format_real(c.t_end) + " must be a whole multiple of it");
-  s.check(c.t_end / c.observe_every < 1e7 + 0.5 && c.observations() <= 10'000'000,
-          "observe_every", c.observe_every,
-          "gives more than 10^7 observation times");
+  const bool grid = s.has("observe");  // dsmc.observe: read once the time step is known
+  if (grid && s.has("observe_every"))
+    throw ConfigError(s.name("observe") + " and " + s.name("observe_every") +
+                      ": both given; give one of them");
+  if (!grid) {
+    c.observe_every = s.real("observe_every", c.t_end);
+    s.check(c.observe_every > 0 && c.observe_every <= c.t_end, "observe_every", c.observe_every,
+            "must satisfy 0 < observe_every <= t_end");
+    s.check(is_multiple(c.t_end, c.observe_every), "observe_every", c.observe_every,
+            "t_end = " + format_real(c.t_end) + " must be a whole multiple of it");
+    s.check(c.t_end / c.observe_every < 1e7 + 0.5 && c.observations() <= 10'000'000,
+            "observe_every", c.observe_every,
+            "gives more than 10^7 observation times");
+  }
 
   if (c.scheme == Scheme::kNoSplit) {
     c.steps = s.integer("steps", 0);
@@ -262,10 +345,12 @@ DsmcConfig read_dsmc(const Section& s) {
       throw ConfigError(s.name("steps") + ": missing (required by scheme " + scheme +
                         "; the time step is t_end / steps)");
     c.steps = s.integer("steps", {1, kMaxInteger, "must be >= 1"});
-    s.check(is_multiple(c.observe_every, c.time_step()), "observe_every", c.observe_every,
-            "must be a whole multiple of the time step t_end/steps = " +
-                format_real(c.time_step()));
+    if (!grid)
+      s.check(is_multiple(c.observe_every, c.time_step()), "observe_every", c.observe_every,
+              "must be a whole multiple of the time step t_end/steps = " +
+                  format_real(c.time_step()));
   }
+  if (grid) read_observe(s, c);
 
   if (s.has("histogram")) {
     const Section h = s.sub("histogram");
@@ -394,7 +479,7 @@ DsmcConfig read_dsmc(const Section& s) {
   }
   if (c.majorant_auto) c.majorant = auto_majorant(c);
   s.finish({"particles", "species", "roughness", "dimension", "geometry", "scheme", "steps", "alpha", "beta", "thermostat", "gamma", "kernel",
-            "initial", "t_end", "observe_every", "histogram", "majorant", "majorant_update",
+            "initial", "t_end", "observe_every", "observe", "histogram", "majorant", "majorant_update",
             "moments", "restitution",
             "steady_from", "steady_ci", "weights"});
   return c;
@@ -462,7 +547,21 @@ void emit_dsmc(YAML::Emitter& out, const DsmcConfig& c) {
         << format_real(c.initial_rotational_temperature);
   out << YAML::EndMap;
   out << YAML::Key << "t_end" << YAML::Value << format_real(c.t_end);
-  out << YAML::Key << "observe_every" << YAML::Value << format_real(c.observe_every);
+  if (c.observe_times.empty()) {
+    out << YAML::Key << "observe_every" << YAML::Value << format_real(c.observe_every);
+  } else {  // dsmc.observe: written only when given, so the text of other configs stays
+    out << YAML::Key << "observe" << YAML::Value << YAML::Flow << YAML::BeginMap;
+    if (c.observe_per_decade) {
+      out << YAML::Key << "log" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
+          << "from" << YAML::Value << format_real(c.observe_log_from) << YAML::Key
+          << "per_decade" << YAML::Value << c.observe_per_decade << YAML::EndMap;
+    } else {  // the times as read, t_end included: read again, the same grid
+      out << YAML::Key << "times" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+      for (double t : c.observe_times) out << format_real(t);
+      out << YAML::EndSeq;
+    }
+    out << YAML::EndMap;
+  }
   if (c.histogram.shells > 0) {
     out << YAML::Key << "histogram" << YAML::Value << YAML::Flow << YAML::BeginMap
         << YAML::Key << "shells" << YAML::Value << c.histogram.shells

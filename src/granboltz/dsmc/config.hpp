@@ -112,6 +112,12 @@ struct DsmcConfig {
   double initial_temperature = 1.0;
   double t_end = 0.0;
   double observe_every = 0.0;  ///< observations at m * observe_every, m = 0..t_end/observe_every
+  /// dsmc.observe, given in place of observe_every (which is then 0, so that the steady window
+  /// t > steady_from + 1e-9 observe_every is t > steady_from): the observation times
+  /// t_1 < ... < t_M = t_end after t_0 = 0, from the log grid or the list. Empty: the uniform grid.
+  std::vector<double> observe_times;
+  double observe_log_from = 0.0;         ///< dsmc.observe.log.from; 0: observe.times was given
+  std::uint64_t observe_per_decade = 0;  ///< dsmc.observe.log.per_decade
   HistogramSpec histogram;
   MajorantKind majorant = MajorantKind::kGlobal;  ///< the majorant used (auto resolved)
   bool majorant_auto = false;  ///< dsmc.majorant: auto (the default) chose `majorant`

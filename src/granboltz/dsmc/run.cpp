@@ -35,6 +35,11 @@ bool checkpoint_has(const std::vector<std::uint64_t>& sorted, std::uint64_t e) {
 }  // namespace
 
 std::vector<double> dsmc_times(const DsmcConfig& d) {
+  if (!d.observe_times.empty()) {  // dsmc.observe: the times as read
+    std::vector<double> t{0.0};
+    t.insert(t.end(), d.observe_times.begin(), d.observe_times.end());
+    return t;
+  }
   const std::uint64_t M = d.observations();
   std::vector<double> t(M + 1);
   for (std::uint64_t m = 0; m <= M; ++m)

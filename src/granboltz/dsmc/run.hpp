@@ -1,5 +1,6 @@
 #pragma once
-// A DSMC run: N independent ensembles observed at t_m = m * observe_every, combined into means
+// A DSMC run: N independent ensembles observed at t_m (m * observe_every, or dsmc.observe's
+// log grid or list), combined into means
 // and confidence intervals (GRW05 §5.1), optionally with steady-state time averages (RW05 §4.2).
 #include <string>
 #include <vector>
@@ -26,7 +27,7 @@ void run_dsmc(const DsmcRunConfig& config, const DriverOptions& options, Record&
 /// Writes the datasets a user reads (docs/output.md), computed from the record only.
 void present_dsmc(H5Writer& out, const DsmcRunConfig& config, const Record& record);
 
-/// The observation times t_m, m = 0..M.
+/// The observation times t_m, m = 0..M: m * observe_every (t_M = t_end), or 0 and dsmc.observe's.
 std::vector<double> dsmc_times(const DsmcConfig& d);
 
 /// A set of observation rows with accumulators of its own: the rows of the whole gas (prefix "",

@@ -86,7 +86,7 @@ def steady_layout(reader, section, time, n, P, moments, out, acc):
 
     estimators = "steady_ci" in section  # written into every resolved config since the estimators exist
     independent = section.get("steady_ci") == "independent"
-    every = float(section.get("observe_every") or 0.0)
+    every = float(section.get("observe_every") or 0.0)  # 0 with dsmc.observe: rows t > steady_from
     rows = int(np.sum(time > float(section["steady_from"]) + 1e-9 * every))
     levels = block_levels(rows)
     # the batch estimator by the file's ensembles (a shard's own: its intervals cover them only)

@@ -45,7 +45,8 @@ def shells_from_h5(path, row=-1, steady=False):
             if "steady/histogram" not in f:
                 raise KeyError(f"{path}: no /steady/histogram (the run has no dsmc.steady_from)")
             t, start = f["time"][()], float(config["dsmc"]["steady_from"])
-            rows = t > start + 1e-9 * float(config["dsmc"]["observe_every"])
+            # the simulator's steady rows; with dsmc.observe (no observe_every) exactly t > steady_from
+            rows = t > start + 1e-9 * float(config["dsmc"].get("observe_every") or 0.0)
             return {**out, "frac": f["steady/histogram/mean"][:-1], "se": f["steady/histogram/ci"][:-1] / lam,
                     "counts": f["histogram/counts"][rows, :-1].sum(axis=0)}
         return {**out, "frac": f["histogram/mean"][row, :-1], "se": f["histogram/ci"][row, :-1] / lam,
