@@ -242,13 +242,19 @@ DsmcConfig read_dsmc(const Section& s) {
                    "the temperature tensor must be symmetric: temperature[" + std::to_string(b) +
                        "][" + std::to_string(a) + "] = " + format_real(T[b * d + a]));
       }
-    if (!temperature_factor(T, c.dimension))
-      throw ConfigError(init.name("temperature") +
-                        ": the temperature tensor must be positive definite (every leading minor "
+    if (!temperature_factor(T, c.dimension)) {
+      std::string shown = "[";
+      for (std::size_t a = 0; a < d; ++a) {
+        shown += a ? ", [" : "[";
+        for (std::size_t b = 0; b < d; ++b) shown += (b ? ", " : "") + format_real(T[a * d + b]);
+        shown += "]";
+      }
+      throw ConfigError(init.name("temperature") + " = " + shown +
+                        "]: the temperature tensor must be positive definite (every leading minor "
                         "> 0, e.g. |T_xy| < sqrt(T_xx T_yy))");
-    double trace = 0.0;
-    for (std::size_t a = 0; a < d; ++a) trace += T[a * d + a];
-    c.initial_temperature = trace / static_cast<double>(d);
+    }
+    c.initial_temperature = 0.0;  // tr T / d, summed so that it cannot overflow
+    for (std::size_t a = 0; a < d; ++a) c.initial_temperature += T[a * d + a] / static_cast<double>(d);
   } else {
     c.initial_temperature = init.real("temperature", 1.0);
     init.check(c.initial_temperature > 0, "temperature", c.initial_temperature, "must be > 0");

@@ -97,6 +97,21 @@ DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, std::uint64_t seed, std::ui
   }
 }
 
+void DsmcEnsemble::set_velocities(const std::vector<Vec3>& v) {
+  Vec3 sum;
+  for (std::size_t i = 0; i < p_.size(); ++i) {
+    p_[i].v = v[i];
+    p_[i].t = t_;
+    sum += v[i];
+  }
+  v0_ = (1.0 / static_cast<double>(p_.size())) * sum;
+  if (gaussian_) fold_scale();
+  double r2 = 0.0;
+  for (const auto& q : p_) r2 = std::max(r2, norm2(q.v - v0_));
+  set_majorant(2.0 * std::sqrt(r2));
+  if (pairwise_) reweigh_all();
+}
+
 std::uint64_t DsmcEnsemble::random_draws() const {
   return events_.draws() + pairs_.draws() + sweep_.draws() + candidates_.draws() +
          partners_.draws();

@@ -139,6 +139,26 @@ GasEnsemble::GasEnsemble(const DsmcConfig& config, std::uint64_t seed, std::uint
   adapt_all();
 }
 
+void GasEnsemble::set_state(const std::vector<Vec3>& v, const std::vector<Vec3>& spins) {
+  if (!v.empty()) {
+    Vec3 momentum;
+    double total_mass = 0.0;
+    for (std::size_t a = 0; a < c_.species.size(); ++a) {
+      const auto& sp = c_.species[a];
+      for (std::uint64_t i = sp.offset; i < sp.offset + sp.count; ++i) {
+        p_[i].v = v[i];
+        p_[i].t = t_;
+        momentum += mass_[a] * v[i];
+        total_mass += mass_[a];
+      }
+    }
+    v0_ = (1.0 / total_mass) * momentum;
+  }
+  if (rough_ && !spins.empty()) w_ = spins;
+  if (gaussian_) fold();
+  adapt_all();
+}
+
 double GasEnsemble::energy_of(std::uint32_t a, std::size_t i) const {
   double e = mass_[a] * norm2(p_[i].v - v0_);
   if (rough_) e += inertia_[a] * norm2(w_[i]);

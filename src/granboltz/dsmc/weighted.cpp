@@ -598,6 +598,20 @@ WeightedEnsemble::WeightedEnsemble(const DsmcConfig& config, std::uint64_t seed,
   rebuild_tree();
 }
 
+void WeightedEnsemble::set_velocities(const std::vector<Vec3>& v) {
+  Vec3 sum;
+  double G = 0.0;
+  for (std::size_t i = 0; i < p_.size(); ++i) {
+    p_[i].v = v[i];
+    p_[i].t = t_;
+    sum += g_[i] * v[i];
+    G += g_[i];
+  }
+  v0_ = (1.0 / G) * sum;
+  if (gaussian_) fold_scale();
+  recompute_majorant();
+}
+
 void WeightedEnsemble::fold_scale() {
   // As DsmcEnsemble::fold_scale with the weighted sums: the true velocities are V + f (w - m), m
   // the weighted mean of the stored ones and f such that the weighted centred temperature
