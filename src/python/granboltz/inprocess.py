@@ -42,7 +42,7 @@ SimulationBusyError.__doc__ = (
 
 __all__ = ["simulate", "Simulation", "ConfigError", "SimulationBusyError"]
 
-from ._arguments import MAX_THREADS, _config_text, _integer, _path, _short  # noqa: E402
+from ._arguments import MAX_THREADS, _config_text, _integer, _path, _real_array, _short  # noqa: E402
 from ._progress import _Bar, _sigint_pauses  # noqa: E402
 
 
@@ -130,32 +130,6 @@ def _observation(scalars, moments, d, prefix=""):
         if a3 is not None:
             out[prefix + "a3"] = float(a3)
     return out
-
-
-def _real_array(call, what, value, shape):
-    """value as a C-contiguous float64 array of `shape` (None: any length, the particle count
-    the engine checks), finite and at most 1e150 in magnitude:
-    TypeError for what is not an array of real numbers, ValueError (one line) for a wrong shape
-    or a bad entry."""
-    if isinstance(value, (str, bytes, dict)) or value is None:
-        raise TypeError(f"{call}: {what} must be an array of real numbers, not a {type(value).__name__}")
-    try:
-        arr = np.asarray(value)
-    except (ValueError, TypeError) as e:  # a ragged nesting
-        raise ValueError(f"{call}: {what} is not a rectangular array ({str(e).splitlines()[0][:80]})") from None
-    if arr.dtype.kind not in "iuf":
-        raise TypeError(f"{call}: {what} must be real numbers, not dtype {arr.dtype}")
-    if arr.ndim != len(shape) or any(k is not None and k != m for k, m in zip(shape, arr.shape)):
-        want = "(" + ", ".join("n" if k is None else str(k) for k in shape) + ("," if len(shape) == 1 else "") + ")"
-        raise ValueError(f"{call}: {what} has shape {arr.shape}, not {want}")
-    arr = np.ascontiguousarray(arr, dtype=np.float64)
-    bad = ~(np.abs(arr) <= 1e150)
-    if bad.any():
-        index = tuple(int(k) for k in np.argwhere(bad)[0])
-        shown = index[0] if len(index) == 1 else ", ".join(str(k) for k in index)
-        raise ValueError(f"{call}: {what}[{shown}] = {float(arr[index])!r}: must be finite and at most "
-                         "1e150 in magnitude")
-    return arr
 
 
 class Simulation:
@@ -289,28 +263,14 @@ class Simulation:
         return self._sim.counts
 
     def set_velocities(self, velocities):
-        """Replace every velocity at the current time: an array-like of real numbers of shape
-        (n, d), each finite and at most 1e150 in magnitude (ValueError, one line naming the
-        first bad entry or the shape; TypeError for what is not an array of real numbers, e.g.
-        complex, bool, strings or objects). The engine then continues from them as from an
-        initial state: every particle's clock is set to now, the majorant (its centre the new
-        bulk velocity) is taken anew, and with the Gaussian thermostat the peculiar velocities
-        are rescaled to its temperature (as the initial ones are). Weighted particles keep their
-        weights. Refused (SimulationBusyError) while another thread is inside a call."""
-        # The particle count is checked inside the call, under its busy lock.
-        self._sim.set_velocities(_real_array("set_velocities", "velocities", velocities,
-                                             (None, self.dimension)))
+        """Replace every velocity now: real numbers, shape (n, d), finite, |v| <= 1e150, else a
+        one-line ValueError/TypeError and nothing changed (docs/python.md)."""
+        self._sim.set_velocities(_real_array("set_velocities", "velocities", velocities, (None, self.dimension)))
         return self
 
     def set_spins(self, spins):
-        """Rough particles (dsmc.roughness): replace every angular velocity at the current time,
-        shape (n, 3) in d = 3 and (n,) (the z component) in d = 2, with the checks of
-        set_velocities; ValueError for smooth particles. With the Gaussian thermostat the total
-        energy is rescaled to its target."""
-        if self._config["dsmc"].get("roughness") is None:
-            raise ValueError("set_spins: only rough particles (dsmc.roughness) have spins")
-        shape = (None, 3) if self.dimension == 3 else (None,)
-        self._sim.set_spins(_real_array("set_spins", "spins", spins, shape))
+        """Rough particles: every spin now, shape (n, 3) in d = 3, (n,) in d = 2, as set_velocities."""
+        self._sim.set_spins(_real_array("set_spins", "spins", spins, (None, 3) if self.dimension == 3 else (None,)))
         return self
 
     def observe(self):
