@@ -227,6 +227,40 @@ bool run_file(const std::string& text, const std::string& origin, const std::str
 }
 
 /// One ensemble of a DSMC run, advanced on request.
+inline std::string shown(double x) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.17g", x);
+  return buf;
+}
+
+/// "(a, b)" of an array's shape, as numpy prints it.
+inline std::string shape_text(const py::array& a) {
+  std::string s = "(";
+  for (py::ssize_t k = 0; k < a.ndim(); ++k) s += (k ? ", " : "") + std::to_string(a.shape(k));
+  return s + (a.ndim() == 1 ? ",)" : ")");
+}
+
+/// The rows of an (n, cols) array (cols 1: the z component of a disk's spin) as vectors, every
+/// entry finite and at most 1e150 in magnitude (its square must not overflow an energy sum).
+inline std::vector<Vec3> state_rows(const py::array_t<double, py::array::c_style | py::array::forcecast>& a,
+                                    std::size_t n, int cols, const char* call, const char* what) {
+  const double* x = a.data();
+  std::vector<Vec3> rows(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    double r[3] = {0.0, 0.0, 0.0};
+    for (int k = 0; k < cols; ++k) {
+      const double value = x[i * static_cast<std::size_t>(cols) + static_cast<std::size_t>(k)];
+      if (!(std::fabs(value) <= 1e150))
+        throw py::value_error(std::string(call) + ": " + what + "[" + std::to_string(i) +
+                              (cols > 1 ? ", " + std::to_string(k) : "") + "] = " + shown(value) +
+                              ": must be finite and at most 1e150 in magnitude");
+      r[cols == 1 ? 2 : k] = value;
+    }
+    rows[i] = {r[0], r[1], r[2]};
+  }
+  return rows;
+}
+
 class Simulation {
  public:
   Simulation(const std::string& text, const std::string& origin, std::uint64_t ensemble)
@@ -379,6 +413,40 @@ class Simulation {
       if (d == 3) a(i, 2) = v.z;
     }
     return out;
+  }
+
+  /// Simulation.set_velocities: an (n, d) float64 array (the Python layer converts and checks
+  /// first; checked again here), every entry finite and at most 1e150 in magnitude.
+  void set_velocities(const py::array_t<double, py::array::c_style | py::array::forcecast>& v) {
+    Use use(*this, "set_velocities");
+    const std::size_t n = particles().size();
+    const int d = dimension();
+    const auto shape = shape_text(v);
+    if (v.ndim() != 2 || static_cast<std::size_t>(v.shape(0)) != n || v.shape(1) != d)
+      throw py::value_error("set_velocities: velocities has shape " + shape + ", not (" +
+                            std::to_string(n) + ", " + std::to_string(d) +
+                            ") (particles, dimension)");
+    const std::vector<Vec3> rows = state_rows(v, n, d, "set_velocities", "velocities");
+    if (weighted_) weighted_->set_velocities(rows);
+    else if (gas_) gas_->set_state(rows, {});
+    else plain_->set_velocities(rows);
+  }
+
+  /// Simulation.set_spins (rough particles): (n, 3) in d = 3, (n,) (the z component) in d = 2.
+  void set_spins(const py::array_t<double, py::array::c_style | py::array::forcecast>& w) {
+    Use use(*this, "set_spins");
+    if (!gas_ || !config_->dsmc.roughness.on)
+      throw py::value_error("set_spins: only rough particles (dsmc.roughness) have spins");
+    const std::size_t n = particles().size();
+    const int d = dimension();
+    const bool ok = d == 3 ? w.ndim() == 2 && static_cast<std::size_t>(w.shape(0)) == n &&
+                                 w.shape(1) == 3
+                           : w.ndim() == 1 && static_cast<std::size_t>(w.shape(0)) == n;
+    if (!ok)
+      throw py::value_error("set_spins: spins has shape " + shape_text(w) + ", not " +
+                            (d == 3 ? "(" + std::to_string(n) + ", 3)"
+                                    : "(" + std::to_string(n) + ",) (the z component in d = 2)"));
+    gas_->set_state({}, state_rows(w, n, d == 3 ? 3 : 1, "set_spins", "spins"));
   }
 
   py::object spins() const {
@@ -588,5 +656,7 @@ PYBIND11_MODULE(_core, m) {
       .def_property_readonly("spins", &Simulation::spins)
       .def_property_readonly("weights", &Simulation::weights)
       .def_property_readonly("counts", &Simulation::counts)
-      .def("observe", &Simulation::observe);
+      .def("observe", &Simulation::observe)
+      .def("set_velocities", &Simulation::set_velocities, py::arg("velocities"))
+      .def("set_spins", &Simulation::set_spins, py::arg("spins"));
 }

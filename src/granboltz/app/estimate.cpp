@@ -1323,7 +1323,10 @@ std::vector<Suspect> suspects(const Config& config) {
     s.push_back({"dsmc.gamma", d.kernel.gamma, [](Config& c) { c.dsmc.kernel.gamma = 1.0; }});
     s.push_back({"dsmc.kernel.C", d.kernel.C, [](Config& c) { c.dsmc.kernel.C = 0.1; }});
     s.push_back({"dsmc.initial.temperature", d.initial_temperature,
-                 [](Config& c) { c.dsmc.initial_temperature = 1.0; }});
+                 [](Config& c) {
+                   c.dsmc.initial_temperature = 1.0;
+                   c.dsmc.initial_temperature_tensor.clear();
+                 }});
     s.push_back({"dsmc.t_end", d.t_end, [](Config& c) {
                    c.dsmc.observe_every /= c.dsmc.t_end;
                    for (double& t : c.dsmc.observe_times) t /= c.dsmc.t_end;

@@ -545,6 +545,17 @@ std::vector<double> Section::matrix(const std::string& key, std::size_t size) co
   return out;
 }
 
+std::vector<double> Section::vector(const std::string& key, std::size_t size) const {
+  const YAML::Node n = at(key, "a list of numbers", false);
+  if (!n.IsSequence() || n.size() != size)
+    throw ConfigError(name(key) + " = " + shown(n) + ": must be a list of " + std::to_string(size) +
+                      " numbers");
+  std::vector<double> out;
+  for (std::size_t i = 0; i < size; ++i)
+    out.push_back(real_of(n[i], key + "[" + std::to_string(i) + "]"));
+  return out;
+}
+
 std::string Section::identifier(const std::string& key) const {
   const YAML::Node n = at(key, "a name", false);
   bool ok = n.IsScalar() && !n.Scalar().empty() && n.Scalar().size() <= 64;

@@ -75,6 +75,8 @@ class Section {
   std::vector<double> reals(const std::string& key, std::size_t max) const;
   /// A required square matrix of finite numbers written as a sequence of `size` sequences.
   std::vector<double> matrix(const std::string& key, std::size_t size) const;
+  /// A required vector of `size` finite numbers written as a sequence.
+  std::vector<double> vector(const std::string& key, std::size_t size) const;
   /// A required plain text of 1..64 characters from [A-Za-z0-9_-] (a name used in output paths).
   std::string identifier(const std::string& key) const;
   /// The keys written in this section, in order.

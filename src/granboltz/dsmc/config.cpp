@@ -11,6 +11,7 @@
 
 #include "granboltz/config/reader.hpp"
 #include "granboltz/dsmc/config.hpp"
+#include "granboltz/dsmc/initial_state.hpp"
 
 namespace granboltz {
 
@@ -307,8 +308,34 @@ DsmcConfig read_dsmc(const Section& s) {
   k.finish({"lambda", "C"});
 
   const Section init = s.sub("initial");
-  c.initial_temperature = init.real("temperature", 1.0);
-  init.check(c.initial_temperature > 0, "temperature", c.initial_temperature, "must be > 0");
+  if (init.is_sequence("temperature")) {
+    const auto d = static_cast<std::size_t>(c.dimension);
+    c.initial_temperature_tensor = init.matrix("temperature", d);
+    const auto& T = c.initial_temperature_tensor;
+    for (std::size_t a = 0; a < d; ++a)
+      for (std::size_t b = 0; b < a; ++b) {
+        const std::string key = "temperature[" + std::to_string(a) + "][" + std::to_string(b) + "]";
+        init.check(T[a * d + b] == T[b * d + a], key, T[a * d + b],
+                   "the temperature tensor must be symmetric: temperature[" + std::to_string(b) +
+                       "][" + std::to_string(a) + "] = " + format_real(T[b * d + a]));
+      }
+    if (!temperature_factor(T, c.dimension)) {
+      std::string shown = "[";
+      for (std::size_t a = 0; a < d; ++a) {
+        shown += a ? ", [" : "[";
+        for (std::size_t b = 0; b < d; ++b) shown += (b ? ", " : "") + format_real(T[a * d + b]);
+        shown += "]";
+      }
+      throw ConfigError(init.name("temperature") + " = " + shown +
+                        "]: the temperature tensor must be positive definite (every leading minor "
+                        "> 0, e.g. |T_xy| < sqrt(T_xx T_yy))");
+    }
+    c.initial_temperature = 0.0;  // tr T / d, summed so that it cannot overflow
+    for (std::size_t a = 0; a < d; ++a) c.initial_temperature += T[a * d + a] / static_cast<double>(d);
+  } else {
+    c.initial_temperature = init.real("temperature", 1.0);
+    init.check(c.initial_temperature > 0, "temperature", c.initial_temperature, "must be > 0");
+  }
   c.initial_rotational_temperature = c.initial_temperature;
   if (init.has("rotational_temperature")) {
     if (!c.roughness.on)
@@ -319,7 +346,23 @@ DsmcConfig read_dsmc(const Section& s) {
     init.check(c.initial_rotational_temperature >= 0, "rotational_temperature",
                c.initial_rotational_temperature, "must be >= 0");
   }
-  init.finish({"temperature", "rotational_temperature"});
+  if (init.has("heat_flux")) {
+    if (!c.initial_temperature_tensor.empty())
+      throw ConfigError(init.name("heat_flux") +
+                        ": needs a number for initial.temperature (the skewed state is drawn about "
+                        "an isotropic Maxwellian)");
+    const auto d = static_cast<std::size_t>(c.dimension);
+    c.initial_heat_flux = init.vector("heat_flux", d);
+    double q2 = 0.0;
+    for (const double q : c.initial_heat_flux) q2 += q * q;
+    const double bound = max_heat_flux(c.dimension, c.initial_temperature);
+    if (!(std::sqrt(q2) < bound))
+      throw ConfigError(init.name("heat_flux") + ": |q| = " + format_real(std::sqrt(q2)) +
+                        ": must be < " + format_real(bound) + " (" +
+                        (c.dimension == 3 ? "0.2006" : "0.3010") +
+                        " T0^{3/2}) for the skewed state's density to stay positive");
+  }
+  init.finish({"temperature", "rotational_temperature", "heat_flux"});
 
   c.t_end = s.real("t_end");
   s.check(c.t_end > 0, "t_end", c.t_end, "must be > 0");
@@ -541,10 +584,27 @@ void emit_dsmc(YAML::Emitter& out, const DsmcConfig& c) {
       << YAML::Key << "lambda" << YAML::Value << format_real(c.kernel.lambda)
       << YAML::Key << "C" << YAML::Value << format_real(c.kernel.C) << YAML::EndMap;
   out << YAML::Key << "initial" << YAML::Value << YAML::Flow << YAML::BeginMap
-      << YAML::Key << "temperature" << YAML::Value << format_real(c.initial_temperature);
+      << YAML::Key << "temperature" << YAML::Value;
+  if (c.initial_temperature_tensor.empty()) {
+    out << format_real(c.initial_temperature);
+  } else {
+    const auto d = static_cast<std::size_t>(c.dimension);
+    out << YAML::Flow << YAML::BeginSeq;
+    for (std::size_t a = 0; a < d; ++a) {
+      out << YAML::Flow << YAML::BeginSeq;
+      for (std::size_t b = 0; b < d; ++b) out << format_real(c.initial_temperature_tensor[a * d + b]);
+      out << YAML::EndSeq;
+    }
+    out << YAML::EndSeq;
+  }
   if (c.roughness.on)
     out << YAML::Key << "rotational_temperature" << YAML::Value
         << format_real(c.initial_rotational_temperature);
+  if (!c.initial_heat_flux.empty()) {
+    out << YAML::Key << "heat_flux" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+    for (const double q : c.initial_heat_flux) out << format_real(q);
+    out << YAML::EndSeq;
+  }
   out << YAML::EndMap;
   out << YAML::Key << "t_end" << YAML::Value << format_real(c.t_end);
   if (c.observe_times.empty()) {

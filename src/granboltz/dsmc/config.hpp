@@ -109,7 +109,13 @@ struct DsmcConfig {
   double beta = 0.0;        ///< heating strength (white noise), >= 0
   Thermostat thermostat = Thermostat::kWhiteNoise;
   VhsKernel kernel;         ///< lambda, C, and gamma (the prefactor of the collision term)
-  double initial_temperature = 1.0;
+  double initial_temperature = 1.0;  ///< T0; with a tensor its trace / d
+  /// dsmc.initial.temperature written as a d x d matrix: the temperature tensor of an anisotropic
+  /// Maxwellian (row-major, symmetric, positive definite); empty: isotropic at T0.
+  std::vector<double> initial_temperature_tensor;
+  /// dsmc.initial.heat_flux: d numbers, the heat flux q = (m/2) <c |c|^2> of a skewed start
+  /// (dsmc/initial_state.hpp, SkewedState); empty: none.
+  std::vector<double> initial_heat_flux;
   double t_end = 0.0;
   double observe_every = 0.0;  ///< observations at m * observe_every, m = 0..t_end/observe_every
   /// dsmc.observe, given in place of observe_every (which is then 0, so that the steady window

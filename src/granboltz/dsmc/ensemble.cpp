@@ -10,6 +10,7 @@
 #include "granboltz/physics/restitution/collide.hpp"
 #include "granboltz/random/samplers.hpp"
 #include "granboltz/record/engine_io.hpp"
+#include "granboltz/dsmc/initial_state.hpp"
 #include "granboltz/dsmc/particles_io.hpp"
 
 namespace granboltz {
@@ -57,9 +58,20 @@ DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, std::uint64_t seed, std::ui
       progress_(progress) {
   Engine init = make_stream(seed, ensemble, Consumer::kInitial);
   const double sd = std::sqrt(c_.initial_temperature);
+  const auto tensor = c_.initial_temperature_tensor.empty()
+                          ? std::nullopt
+                          : temperature_factor(c_.initial_temperature_tensor, c_.dimension);
+  const auto skew = c_.initial_heat_flux.empty()
+                        ? std::nullopt
+                        : std::optional(skewed_state(c_.initial_heat_flux, c_.dimension,
+                                                     c_.initial_temperature));
   Vec3 sum;
   for (auto& q : p_) {
-    if (c_.dimension == 2) {
+    if (tensor) {
+      q.v = anisotropic_velocity(*tensor, c_.dimension, 1.0, init);
+    } else if (skew) {
+      q.v = skewed_velocity(*skew, c_.dimension, sd, init);
+    } else if (c_.dimension == 2) {
       const double x = normal(init);
       const double y = normal(init);
       q.v = {sd * x, sd * y, 0.0};
@@ -83,6 +95,21 @@ DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, std::uint64_t seed, std::ui
   } else {
     for (auto& pair : ring_) pair = draw_pair(pairs_);
   }
+}
+
+void DsmcEnsemble::set_velocities(const std::vector<Vec3>& v) {
+  Vec3 sum;
+  for (std::size_t i = 0; i < p_.size(); ++i) {
+    p_[i].v = v[i];
+    p_[i].t = t_;
+    sum += v[i];
+  }
+  v0_ = (1.0 / static_cast<double>(p_.size())) * sum;
+  if (gaussian_) fold_scale();
+  double r2 = 0.0;
+  for (const auto& q : p_) r2 = std::max(r2, norm2(q.v - v0_));
+  set_majorant(2.0 * std::sqrt(r2));
+  if (pairwise_) reweigh_all();
 }
 
 std::uint64_t DsmcEnsemble::random_draws() const {

@@ -46,6 +46,13 @@ class DsmcEnsemble {
   /// Writes the complete state (particles, streams, majorant, counts) under `group`.
   void save(H5Writer& out, const std::string& group) const;
 
+  /// Replaces every velocity at the current time (granboltz.Simulation's setter; the caller
+  /// checks count and finiteness): each particle's clock is set to time(), the majorant's centre
+  /// and bound are taken anew as at t = 0, and the Gaussian thermostat rescales the new peculiar
+  /// velocities to T0 as it does the initial ones. Exact between calls of advance_to: no waiting
+  /// time is pending there.
+  void set_velocities(const std::vector<Vec3>& v);
+
   const Particles& particles() const { return p_; }
   double time() const { return t_; }
   double u_max() const { return u_max_; }

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "granboltz/core/hot.hpp"
+#include "granboltz/dsmc/initial_state.hpp"
 #include "granboltz/dsmc/particles_io.hpp"
 #include "granboltz/physics/geometry.hpp"
 #include "granboltz/physics/heating.hpp"
@@ -91,11 +92,26 @@ GasEnsemble::GasEnsemble(const DsmcConfig& config, std::uint64_t seed, std::uint
   Engine init = make_stream(seed, ensemble, Consumer::kInitial);
   Vec3 momentum;
   double total_mass = 0.0;
+  const auto tensor = c_.initial_temperature_tensor.empty()
+                          ? std::nullopt
+                          : temperature_factor(c_.initial_temperature_tensor, c_.dimension);
+  // A skewed start: every species has the heat flux q of its velocities scaled by sqrt(m_a)
+  // (the output's convention), the same reduced state x = v / sqrt(T0/m_a).
+  const auto skew = c_.initial_heat_flux.empty()
+                        ? std::nullopt
+                        : std::optional(skewed_state(c_.initial_heat_flux, c_.dimension,
+                                                     c_.initial_temperature));
   for (std::size_t a = 0; a < c_.species.size(); ++a) {
     const double sd = std::sqrt(c_.initial_temperature / mass_[a]);
     const auto& sp = c_.species[a];
     for (std::uint64_t i = sp.offset; i < sp.offset + sp.count; ++i) {
-      p_[i].v = sd * normals(c_.dimension, init);
+      // An anisotropic Maxwellian: covariance T / m_a.
+      if (tensor)
+        p_[i].v = anisotropic_velocity(*tensor, c_.dimension, 1.0 / std::sqrt(mass_[a]), init);
+      else if (skew)
+        p_[i].v = skewed_velocity(*skew, c_.dimension, sd, init);
+      else
+        p_[i].v = sd * normals(c_.dimension, init);
       p_[i].t = 0.0;
       momentum += mass_[a] * p_[i].v;
       total_mass += mass_[a];
@@ -120,6 +136,26 @@ GasEnsemble::GasEnsemble(const DsmcConfig& config, std::uint64_t seed, std::uint
                    (rough_ ? rotational_dof(c_.dimension) * c_.initial_rotational_temperature : 0.0));
     fold();
   }
+  adapt_all();
+}
+
+void GasEnsemble::set_state(const std::vector<Vec3>& v, const std::vector<Vec3>& spins) {
+  if (!v.empty()) {
+    Vec3 momentum;
+    double total_mass = 0.0;
+    for (std::size_t a = 0; a < c_.species.size(); ++a) {
+      const auto& sp = c_.species[a];
+      for (std::uint64_t i = sp.offset; i < sp.offset + sp.count; ++i) {
+        p_[i].v = v[i];
+        p_[i].t = t_;
+        momentum += mass_[a] * v[i];
+        total_mass += mass_[a];
+      }
+    }
+    v0_ = (1.0 / total_mass) * momentum;
+  }
+  if (rough_ && !spins.empty()) w_ = spins;
+  if (gaussian_) fold();
   adapt_all();
 }
 

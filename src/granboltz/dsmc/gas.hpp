@@ -41,6 +41,10 @@ class GasEnsemble {
   const Particles& particles() const { return p_; }
   /// Angular velocities (rough particles; d = 2: along z); empty for smooth ones.
   const std::vector<Vec3>& spins() const { return w_; }
+  /// Replaces the velocities (empty: kept, clocks too) and, rough, the spins (empty: kept) at
+  /// the current time, as DsmcEnsemble::set_velocities: clocks to time(), the centre of mass
+  /// and the bounds R_a anew, the Gaussian thermostat rescales to its target energy.
+  void set_state(const std::vector<Vec3>& v, const std::vector<Vec3>& spins);
   double time() const { return t_; }
   /// The largest pair bound U_ab (the one-species engine's U_max).
   double u_max() const;

@@ -14,6 +14,7 @@
 #include "granboltz/physics/restitution/collide.hpp"
 #include "granboltz/random/samplers.hpp"
 #include "granboltz/record/engine_io.hpp"
+#include "granboltz/dsmc/initial_state.hpp"
 #include "granboltz/dsmc/particles_io.hpp"
 
 namespace granboltz {
@@ -566,9 +567,20 @@ WeightedEnsemble::WeightedEnsemble(const DsmcConfig& config, std::uint64_t seed,
       progress_(progress) {
   Engine init = make_stream(seed, ensemble, Consumer::kInitial);
   const double sd = std::sqrt(c_.initial_temperature);
+  const auto tensor = c_.initial_temperature_tensor.empty()
+                          ? std::nullopt
+                          : temperature_factor(c_.initial_temperature_tensor, c_.dimension);
+  const auto skew = c_.initial_heat_flux.empty()
+                        ? std::nullopt
+                        : std::optional(skewed_state(c_.initial_heat_flux, c_.dimension,
+                                                     c_.initial_temperature));
   Vec3 sum;
   for (auto& q : p_) {
-    if (c_.dimension == 2) {  // the same draws as the constant-weight engine's
+    if (tensor) {
+      q.v = anisotropic_velocity(*tensor, c_.dimension, 1.0, init);
+    } else if (skew) {
+      q.v = skewed_velocity(*skew, c_.dimension, sd, init);
+    } else if (c_.dimension == 2) {  // the same draws as the constant-weight engine's
       const double x = normal(init);
       const double y = normal(init);
       q.v = {sd * x, sd * y, 0.0};
@@ -584,6 +596,20 @@ WeightedEnsemble::WeightedEnsemble(const DsmcConfig& config, std::uint64_t seed,
   for (const auto& q : p_) r2 = std::max(r2, norm2(q.v - v0_));
   u_max_ = 2.0 * std::sqrt(r2);
   rebuild_tree();
+}
+
+void WeightedEnsemble::set_velocities(const std::vector<Vec3>& v) {
+  Vec3 sum;
+  double G = 0.0;
+  for (std::size_t i = 0; i < p_.size(); ++i) {
+    p_[i].v = v[i];
+    p_[i].t = t_;
+    sum += g_[i] * v[i];
+    G += g_[i];
+  }
+  v0_ = (1.0 / G) * sum;
+  if (gaussian_) fold_scale();
+  recompute_majorant();
 }
 
 void WeightedEnsemble::fold_scale() {

@@ -126,6 +126,9 @@ class WeightedEnsemble {
 
   const Particles& particles() const { return p_; }
   const std::vector<double>& weights() const { return g_; }
+  /// Replaces every velocity at the current time (weights kept), as
+  /// DsmcEnsemble::set_velocities: clocks to time(), the weighted centre and the majorant anew.
+  void set_velocities(const std::vector<Vec3>& v);
   double time() const { return t_; }
   /// The majorant in true units (with the Gaussian thermostat the stored bound times the scale).
   double u_max() const { return gaussian_ ? std::sqrt(gauss_.s2) * u_max_ : u_max_; }

@@ -138,3 +138,29 @@ def _integer(name, value, lo, hi, allowed):
     if not lo <= value <= hi:
         raise ValueError(f"{name} = {_short(value)}: must be an integer, {allowed}")
     return value
+
+
+def _real_array(call, what, value, shape):
+    """value as a C-contiguous float64 array of `shape` (None: any length, the particle count
+    the engine checks), finite and at most 1e150 in magnitude:
+    TypeError for what is not an array of real numbers, ValueError (one line) for a wrong shape
+    or a bad entry."""
+    if isinstance(value, (str, bytes, dict)) or value is None:
+        raise TypeError(f"{call}: {what} must be an array of real numbers, not a {type(value).__name__}")
+    try:
+        arr = np.asarray(value)
+    except (ValueError, TypeError) as e:  # a ragged nesting
+        raise ValueError(f"{call}: {what} is not a rectangular array ({str(e).splitlines()[0][:80]})") from None
+    if arr.dtype.kind not in "iuf":
+        raise TypeError(f"{call}: {what} must be real numbers, not dtype {arr.dtype}")
+    if arr.ndim != len(shape) or any(k is not None and k != m for k, m in zip(shape, arr.shape)):
+        want = "(" + ", ".join("n" if k is None else str(k) for k in shape) + ("," if len(shape) == 1 else "") + ")"
+        raise ValueError(f"{call}: {what} has shape {arr.shape}, not {want}")
+    arr = np.ascontiguousarray(arr, dtype=np.float64)
+    bad = ~(np.abs(arr) <= 1e150)
+    if bad.any():
+        index = tuple(int(k) for k in np.argwhere(bad)[0])
+        shown = index[0] if len(index) == 1 else ", ".join(str(k) for k in index)
+        raise ValueError(f"{call}: {what}[{shown}] = {float(arr[index])!r}: must be finite and at most "
+                         "1e150 in magnitude")
+    return arr

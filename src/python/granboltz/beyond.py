@@ -12,7 +12,7 @@ import math
 
 import numpy as np
 
-from .dimension import check_dimension, dsmc_geometry
+from .dimension import check_dimension, dsmc_geometry, initial_temperature
 from .maxwell_hierarchy import hcs_a2, hcs_scaled_moments, steady_a2_formula
 from .sonine import cooling_rate, first_sonine_a2, hcs_moment_threshold, maxwell_a3, second_sonine
 
@@ -85,7 +85,7 @@ def haff_rows(runs):
         n, lam = int(d["particles"]), float(d["kernel"]["lambda"])
         T, ci = run.temperature.mean, run.temperature.ci
         alpha = run_alpha(run)
-        th = haff_temperature(run.time, d["initial"]["temperature"], alpha, d["gamma"], d["kernel"]["C"], lam, n,
+        th = haff_temperature(run.time, initial_temperature(d), alpha, d["gamma"], d["kernel"]["C"], lam, n,
                               *dsmc_geometry(d))
         for t, x, c, e in zip(run.time, T, ci, th):
             rows.append({"kernel": "maxwell" if lam == 0 else "hard_spheres", "alpha": alpha, "n": n,

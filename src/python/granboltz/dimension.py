@@ -50,3 +50,21 @@ def dsmc_geometry(section):
 def run_geometry(run):
     """(d, geometry) of a DSMC run (read_run object): dsmc_geometry of its config."""
     return dsmc_geometry(run.config.get("dsmc", {}))
+
+
+def initial_temperature(dsmc):
+    """T0 of a run config's dsmc section: dsmc.initial.temperature, or the trace / d of a
+    temperature tensor (an anisotropic Maxwellian; its temperature is that trace / d)."""
+    T = dsmc.get("initial", {}).get("temperature", 1.0)
+    if isinstance(T, (list, tuple)):
+        return sum(float(T[a][a]) for a in range(len(T))) / len(T)
+    return T
+
+
+def check_maxwellian_start(dsmc, what):
+    """ValueError naming `what` unless the run starts from the isotropic Maxwellian (theories of
+    every speed moment from t = 0 need it; the temperature alone does not)."""
+    init = dsmc.get("initial", {})
+    if isinstance(init.get("temperature", 1.0), (list, tuple)):
+        raise ValueError(f"{what}: needs an isotropic Maxwellian start, not dsmc.initial.temperature "
+                         f"= {_short(init['temperature'])}")

@@ -42,7 +42,7 @@ SimulationBusyError.__doc__ = (
 
 __all__ = ["simulate", "Simulation", "ConfigError", "SimulationBusyError"]
 
-from ._arguments import MAX_THREADS, _config_text, _integer, _path, _short  # noqa: E402
+from ._arguments import MAX_THREADS, _config_text, _integer, _path, _real_array, _short  # noqa: E402
 from ._progress import _Bar, _sigint_pauses  # noqa: E402
 
 
@@ -150,6 +150,7 @@ class Simulation:
     sim.spins        rough particles: (n, 3) in d = 3, (n,) (the z component) in d = 2; else None
     sim.weights      SWPM: the particle weights, shape (n,); else None
     sim.observe()    the observables now (see its docstring)
+    sim.set_velocities(v), sim.set_spins(w)   replace the state now (checked; see their docstrings)
     sim.save(path), Simulation.restore(path)   the engine's whole state and the config
     """
 
@@ -260,6 +261,17 @@ class Simulation:
     def counts(self):
         """{collisions, fictitious, kicks} so far (SWPM also reductions, split_sweeps)."""
         return self._sim.counts
+
+    def set_velocities(self, velocities):
+        """Replace every velocity now: real numbers, shape (n, d), finite, |v| <= 1e150, else a
+        one-line ValueError/TypeError and nothing changed (docs/python.md)."""
+        self._sim.set_velocities(_real_array("set_velocities", "velocities", velocities, (None, self.dimension)))
+        return self
+
+    def set_spins(self, spins):
+        """Rough particles: every spin now, shape (n, 3) in d = 3, (n,) in d = 2, as set_velocities."""
+        self._sim.set_spins(_real_array("set_spins", "spins", spins, (None, 3) if self.dimension == 3 else (None,)))
+        return self
 
     def observe(self):
         """The observables now, as the simulator measures them at an observation time:

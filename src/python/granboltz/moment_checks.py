@@ -12,7 +12,7 @@ from math import pi, sqrt
 import numpy as np
 
 from . import maxwell_hierarchy as mh
-from .dimension import check_dimension
+from .dimension import check_dimension, check_maxwellian_start
 from .io import open_run, read_config, read_finite
 from .tail_theory import amplitude_and_chi_from_moments, amplitude_from_moments, tail_amplitude
 
@@ -30,6 +30,7 @@ def hierarchy_physics(config):
     d = config["dsmc"]
     if float(d["kernel"]["lambda"]) != 0.0:
         raise ValueError(f"the exact hierarchy needs lambda = 0, not {d['kernel']['lambda']}")
+    check_maxwellian_start(d, "the exact hierarchy")
     pi_c = Fraction(float(d["kernel"]["C"]) * pi).limit_denominator(1000)
     frac = [Fraction(str(d[k])) for k in ("alpha", "beta")]
     T0 = Fraction(str(d.get("initial", {}).get("temperature", 1.0)))

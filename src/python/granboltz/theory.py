@@ -11,7 +11,7 @@ import math
 import numpy as np
 from scipy import integrate, special, stats
 
-from .dimension import check_dimension, check_geometry, dsmc_geometry
+from .dimension import check_dimension, check_geometry, dsmc_geometry, initial_temperature
 
 LAMBDA_P = 3.2  # confidence half-width factor of GRW05 §5.1 (p = 0.999); the simulator's ci
 
@@ -46,7 +46,7 @@ def dsmc_physics(dsmc):
     """(T0, alpha, beta, gamma, C0) of a run config's dsmc section (lambda must be 0)."""
     if dsmc["kernel"]["lambda"] != 0:
         raise ValueError(f"eq. (16) needs kernel lambda = 0, got {dsmc['kernel']['lambda']}")
-    T0 = dsmc.get("initial", {}).get("temperature", 1.0)
+    T0 = initial_temperature(dsmc)  # eq. (16) is closed in T: exact from any start of that T
     return T0, dsmc["alpha"], dsmc["beta"], dsmc.get("gamma", 1.0), dsmc["kernel"]["C"]
 
 

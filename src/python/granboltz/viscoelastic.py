@@ -24,7 +24,7 @@ import math
 import numpy as np
 
 from .beyond import Z
-from .dimension import check_dimension
+from .dimension import check_dimension, initial_temperature
 from .sonine import cooling_rate
 
 C1 = math.gamma(0.6) * math.sqrt(math.pi) / (2**0.2 * 5**0.4 * math.gamma(2.1))  # 1.1534489
@@ -148,7 +148,7 @@ def viscoelastic_rows(runs, rows, late_from):
     out = []
     for run in sorted(runs, key=run_delta):
         d, delta = run.config["dsmc"], run_delta(run)
-        n, T0, g, C = int(d["particles"]), float(d["initial"]["temperature"]), float(d["gamma"]), float(d["kernel"]["C"])
+        n, T0, g, C = int(d["particles"]), float(initial_temperature(d)), float(d["gamma"]), float(d["kernel"]["C"])
         dim = int(d.get("dimension", 3))
         idx = log_spaced(len(run.time) - 1, rows)
         t, T, ci = run.time[idx], run.temperature.mean[idx], run.temperature.ci[idx]
