@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <condition_variable>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -14,6 +13,7 @@
 #include "granboltz/dsmc/gas_observables.hpp"
 #include "granboltz/dsmc/observables.hpp"
 #include "granboltz/dsmc/weighted.hpp"
+#include "granboltz/exec/safe_points.hpp"
 #include "granboltz/stats/blocking.hpp"
 #include "granboltz/stats/delta_method.hpp"
 
@@ -421,62 +421,19 @@ void run_dsmc(const DsmcRunConfig& config, const DriverOptions& options, Record&
 
   // One lock for the record and the pause protocol of checkpoints: when one is due, every
   // ensemble under way parks at its next safe point, the checkpoint is written, and they go on.
-  std::mutex mutex;
-  std::condition_variable changed;
-  std::atomic<bool> pause{false};
-  int active = 0;
-  std::map<std::uint64_t, const InProgress*> parked;
-  bool cancelled = false;  // DriverOptions::cancel: the ensembles under way stop at a safe point
-
-  DriverOptions opts = options;
-  opts.on_cancel = [&] {
-    std::lock_guard<std::mutex> lock(mutex);
-    cancelled = true;
-    pause = true;
-    changed.notify_all();
-  };
-  if (options.checkpoint)
-    opts.tick = [&] {
-      std::unique_lock<std::mutex> lock(mutex);
-      pause = true;
-      changed.wait(lock, [&] { return static_cast<int>(parked.size()) == active; });
-      try {
+  SafePoints<InProgress> safe;
+  const DriverOptions opts =
+      safe.options(options, [&](const std::map<std::uint64_t, const InProgress*>& parked) {
         options.checkpoint(record, [&](H5Writer& out) {
           for (const auto& [e, w] : parked) save_in_progress(out, e, *w);
         });
-      } catch (...) {
-        pause = false;
-        changed.notify_all();
-        throw;
-      }
-      pause = false;
-      changed.notify_all();
-    };
+      });
 
   for_each_ensemble(todo, opts, [&](std::uint64_t e, ProgressSlot& slot) {
     InProgress w;
-    {
-      std::unique_lock<std::mutex> lock(mutex);
-      ++active;
-    }
-    // However this ensemble ends (an exception included), it stops counting as under way, so that
-    // a checkpoint never waits for it.
-    struct Leave {
-      std::mutex& mutex;
-      std::condition_variable& changed;
-      int& active;
-      bool done = false;
-      void now() {  // with the lock held
-        if (!done) --active, changed.notify_all(), done = true;
-      }
-      ~Leave() {
-        if (done) return;
-        std::lock_guard<std::mutex> lock(mutex);
-        now();
-      }
-    } leave{mutex, changed, active};
+    SafePoints<InProgress>::Member member(safe);
     if (checkpoint_has(resumed, e)) {
-      std::unique_lock<std::mutex> lock(mutex);  // HDF5 (serial build) is not thread-safe
+      std::lock_guard<std::mutex> lock(safe.mutex());  // HDF5 (serial build) is not thread-safe
       w = load_in_progress(d, *checkpoint, e, rows, K1, &slot);
     } else {
       if (d.weights.swpm) {
@@ -500,21 +457,14 @@ void run_dsmc(const DsmcRunConfig& config, const DriverOptions& options, Record&
       }
     }
     auto advance = [&](double s) {
-      return w.weighted ? w.weighted->advance_to(s, &pause)
-             : w.gas    ? w.gas->advance_to(s, &pause)
-                        : w.ensemble->advance_to(s, &pause);
+      return w.weighted ? w.weighted->advance_to(s, safe.pause_flag())
+             : w.gas    ? w.gas->advance_to(s, safe.pause_flag())
+                        : w.ensemble->advance_to(s, safe.pause_flag());
     };
     for (; w.next < rows; ++w.next) {
       const std::uint64_t m = w.next;
       if (m > 0)
-        while (!advance(times[m])) {
-          std::unique_lock<std::mutex> lock(mutex);
-          if (cancelled) throw RunCancelled();
-          parked[e] = &w;
-          changed.notify_all();
-          changed.wait(lock, [&] { return !pause.load() || cancelled; });
-          parked.erase(e);
-        }
+        while (!advance(times[m])) safe.park(e, &w);
       if (w.weighted) {
         const WeightedEnsemble& we = *w.weighted;
         w.obs[m] = measure_weighted(we.particles(), we.weights(), {w.moments.data() + m * P, P},
@@ -547,8 +497,8 @@ void run_dsmc(const DsmcRunConfig& config, const DriverOptions& options, Record&
       }
     }
     // Exact sums: the order in which ensembles arrive here does not matter.
-    std::lock_guard<std::mutex> lock(mutex);
-    leave.now();
+    std::lock_guard<std::mutex> lock(safe.mutex());
+    member.leave();
     const RowSet whole{"", "", kNumScalars, P};
     add_rows(d, times, whole, w.obs.data()->data(), w.moments.data(), e, true, record);
     const std::vector<RowSet> extra = extra_row_sets(d);
