@@ -2,13 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <condition_variable>
 #include <map>
 #include <memory>
 #include <mutex>
 #include <stdexcept>
-
-#include <gsl/gsl_cdf.h>
 
 #include "granboltz/config/reader.hpp"
 #include "granboltz/dsmc/ensemble.hpp"
@@ -16,6 +13,9 @@
 #include "granboltz/dsmc/gas_observables.hpp"
 #include "granboltz/dsmc/observables.hpp"
 #include "granboltz/dsmc/weighted.hpp"
+#include "granboltz/exec/safe_points.hpp"
+#include "granboltz/stats/blocking.hpp"
+#include "granboltz/stats/delta_method.hpp"
 
 namespace granboltz {
 
@@ -54,24 +54,7 @@ std::uint64_t steady_rows(const DsmcConfig& d) {
   return rows;
 }
 
-std::uint64_t steady_block_levels(const DsmcConfig& d) {
-  const std::uint64_t R = steady_rows(d);
-  std::uint64_t L = 0;
-  while (L < 63 && (R >> L) >= 2) ++L;
-  return L;
-}
-
-namespace {
-std::uint64_t cross_pairs(std::uint64_t P) { return P >= 3 ? 3 : P == 2 ? 1 : 0; }
-/// The products of the pairs of cross_pairs from M2, M4 (and M6) of one sample.
-void add_cross(Moments2* out, const double* M, std::uint64_t P) {
-  if (P < 2) return;
-  out[0].sum.add(M[0] * M[1]);
-  if (P < 3) return;
-  out[1].sum.add(M[0] * M[2]);
-  out[2].sum.add(M[1] * M[2]);
-}
-}  // namespace
+std::uint64_t steady_block_levels(const DsmcConfig& d) { return block_levels(steady_rows(d)); }
 
 std::vector<RowSet> extra_row_sets(const DsmcConfig& d) {
   std::vector<RowSet> out;
@@ -337,31 +320,14 @@ void add_steady_blocks(const DsmcConfig& d, const std::vector<double>& times, co
   const std::uint64_t R = times.size() - first;
   auto& ens = record.moments(set.prefix + "steady_ensemble");
   auto* blocks = L ? &record.moments(set.prefix + "steady_blocks") : nullptr;
-  std::vector<double> x(R), b, avg(K);
+  std::vector<double> x(R), avg(K);
   for (std::uint64_t k = 0; k < K; ++k) {
     for (std::uint64_t i = 0; i < R; ++i)
       x[i] = k < W ? obs[(first + i) * W + k] : moments[(first + i) * P + (k - W)];
-    double sum = 0.0;
-    for (double v : x) sum += v;
-    avg[k] = sum / static_cast<double>(R);
+    avg[k] = row_average(x.data(), R);
     ens[k].add(avg[k]);
-    for (std::uint64_t l = 0; l < L; ++l) {
-      const std::uint64_t B = std::uint64_t{1} << l, n = R / B;
-      b.assign(n, 0.0);
-      double bsum = 0.0;
-      for (std::uint64_t j = 0; j < n; ++j) {
-        for (std::uint64_t i = 0; i < B; ++i) b[j] += x[j * B + i];
-        b[j] /= static_cast<double>(B);
-        bsum += b[j];
-      }
-      const double bmean = bsum / static_cast<double>(n);
-      double ss = 0.0;
-      for (double v : b) ss += (v - bmean) * (v - bmean);
-      // The variance of this ensemble's average over its R rows, if blocks of B rows were
-      // independent: var(block mean) B / R (the n blocks may leave out the last R - n B rows).
-      (*blocks)[l * K + k].add(ss / static_cast<double>(n - 1) * static_cast<double>(B) /
-                               static_cast<double>(R));
-    }
+    for (std::uint64_t l = 0; l < L; ++l)
+      (*blocks)[l * K + k].add(blocked_variance(x.data(), R, std::uint64_t{1} << l));
   }
   if (cross_pairs(P))
     add_cross(record.moments(set.prefix + "steady_moment_cross").data(), &avg[W], P);
@@ -460,62 +426,19 @@ void run_dsmc(const DsmcRunConfig& config, const DriverOptions& options, Record&
 
   // One lock for the record and the pause protocol of checkpoints: when one is due, every
   // ensemble under way parks at its next safe point, the checkpoint is written, and they go on.
-  std::mutex mutex;
-  std::condition_variable changed;
-  std::atomic<bool> pause{false};
-  int active = 0;
-  std::map<std::uint64_t, const InProgress*> parked;
-  bool cancelled = false;  // DriverOptions::cancel: the ensembles under way stop at a safe point
-
-  DriverOptions opts = options;
-  opts.on_cancel = [&] {
-    std::lock_guard<std::mutex> lock(mutex);
-    cancelled = true;
-    pause = true;
-    changed.notify_all();
-  };
-  if (options.checkpoint)
-    opts.tick = [&] {
-      std::unique_lock<std::mutex> lock(mutex);
-      pause = true;
-      changed.wait(lock, [&] { return static_cast<int>(parked.size()) == active; });
-      try {
+  SafePoints<InProgress> safe;
+  const DriverOptions opts =
+      safe.options(options, [&](const std::map<std::uint64_t, const InProgress*>& parked) {
         options.checkpoint(record, [&](H5Writer& out) {
           for (const auto& [e, w] : parked) save_in_progress(out, e, *w);
         });
-      } catch (...) {
-        pause = false;
-        changed.notify_all();
-        throw;
-      }
-      pause = false;
-      changed.notify_all();
-    };
+      });
 
   for_each_ensemble(todo, opts, [&](std::uint64_t e, ProgressSlot& slot) {
     InProgress w;
-    {
-      std::unique_lock<std::mutex> lock(mutex);
-      ++active;
-    }
-    // However this ensemble ends (an exception included), it stops counting as under way, so that
-    // a checkpoint never waits for it.
-    struct Leave {
-      std::mutex& mutex;
-      std::condition_variable& changed;
-      int& active;
-      bool done = false;
-      void now() {  // with the lock held
-        if (!done) --active, changed.notify_all(), done = true;
-      }
-      ~Leave() {
-        if (done) return;
-        std::lock_guard<std::mutex> lock(mutex);
-        now();
-      }
-    } leave{mutex, changed, active};
+    SafePoints<InProgress>::Member member(safe);
     if (checkpoint_has(resumed, e)) {
-      std::unique_lock<std::mutex> lock(mutex);  // HDF5 (serial build) is not thread-safe
+      std::lock_guard<std::mutex> lock(safe.mutex());  // HDF5 (serial build) is not thread-safe
       w = load_in_progress(d, *checkpoint, e, rows, K1, &slot);
     } else {
       if (d.weights.swpm) {
@@ -539,21 +462,14 @@ void run_dsmc(const DsmcRunConfig& config, const DriverOptions& options, Record&
       }
     }
     auto advance = [&](double s) {
-      return w.weighted ? w.weighted->advance_to(s, &pause)
-             : w.gas    ? w.gas->advance_to(s, &pause)
-                        : w.ensemble->advance_to(s, &pause);
+      return w.weighted ? w.weighted->advance_to(s, safe.pause_flag())
+             : w.gas    ? w.gas->advance_to(s, safe.pause_flag())
+                        : w.ensemble->advance_to(s, safe.pause_flag());
     };
     for (; w.next < rows; ++w.next) {
       const std::uint64_t m = w.next;
       if (m > 0)
-        while (!advance(times[m])) {
-          std::unique_lock<std::mutex> lock(mutex);
-          if (cancelled) throw RunCancelled();
-          parked[e] = &w;
-          changed.notify_all();
-          changed.wait(lock, [&] { return !pause.load() || cancelled; });
-          parked.erase(e);
-        }
+        while (!advance(times[m])) safe.park(e, &w);
       if (w.weighted) {
         const WeightedEnsemble& we = *w.weighted;
         w.obs[m] = measure_weighted(we.particles(), we.weights(), {w.moments.data() + m * P, P},
@@ -586,8 +502,8 @@ void run_dsmc(const DsmcRunConfig& config, const DriverOptions& options, Record&
       }
     }
     // Exact sums: the order in which ensembles arrive here does not matter.
-    std::lock_guard<std::mutex> lock(mutex);
-    leave.now();
+    std::lock_guard<std::mutex> lock(safe.mutex());
+    member.leave();
     const RowSet whole{"", "", kNumScalars, P};
     add_rows(d, times, whole, w.obs.data()->data(), w.moments.data(), e, true, record);
     const std::vector<RowSet> extra = extra_row_sets(d);
@@ -768,76 +684,6 @@ void write_speed_moments(H5Writer& out, const std::string& prefix,
 
 namespace {
 
-/// a2 = d/(d+2) M4/M2^2 - 1 and a3 = 1 + 3 a2 - d^2/((d+2)(d+4)) M6/M2^3 at the ensemble
-/// means of M2, M4, M6, and their variances by the delta method, g^T Cov g / N with the
-/// covariance of the ensembles' (M2, M4, M6): a ratio of means, not a mean of ratios, so that
-/// neither is biased by the noise of one ensemble's M2.
-/// bias_*: the ratio estimator's leading bias, (1/2) tr(H Cov) / N with H the Hessian of a2 or
-/// a3 in the moments (second-order delta method); O(1/N) against a sigma of O(1/sqrt(N)).
-struct Sonine {
-  double a2 = 0.0, a3 = 0.0, var_a2 = 0.0, var_a3 = 0.0, bias_a2 = 0.0, bias_a3 = 0.0;
-};
-Sonine sonine(const Moments2* M, const Moments2* cross, std::uint64_t P, std::uint64_t N,
-              bool sample_covariance, int dimension) {
-  Sonine r;
-  const double n = static_cast<double>(N);
-  const int q = P >= 3 ? 3 : 2;
-  double mu[3] = {0, 0, 0}, cov[3][3] = {};
-  for (int i = 0; i < q; ++i) mu[i] = M[i].sum.value() / n;
-  auto second = [&](int i, int j) {
-    if (i == j) return M[i].sum_sq.value();
-    const int pair = i + j - 1;  // (0,1) -> 0, (0,2) -> 1, (1,2) -> 2
-    return cross[pair].sum.value();
-  };
-  // Population covariance for the time series (as their variance and ci), sample covariance for
-  // the steady averages (as the ensembles estimator of /steady).
-  const double denom = sample_covariance ? n - 1 : n;
-  for (int i = 0; i < q; ++i)
-    for (int j = 0; j < q; ++j) cov[i][j] = (second(i, j) - n * mu[i] * mu[j]) / denom;
-  auto variance = [&](const double* g) {
-    double v = 0.0;
-    for (int i = 0; i < q; ++i)
-      for (int j = 0; j < q; ++j) v += g[i] * cov[i][j] * g[j];
-    return std::max(0.0, v / n);
-  };
-  auto bias = [&](const double (&H)[3][3]) {
-    double b = 0.0;
-    for (int i = 0; i < q; ++i)
-      for (int j = 0; j < q; ++j) b += H[i][j] * cov[i][j];
-    return 0.5 * b / n;
-  };
-  const bool plane = dimension == 2;
-  const double c2 = plane ? 2.0 / 4.0 : 3.0 / 5.0, c3 = plane ? 4.0 / 24.0 : 9.0 / 35.0;
-  const double m2 = mu[0], m4 = mu[1], m6 = mu[2];
-  r.a2 = c2 * m4 / (m2 * m2) - 1.0;
-  const double g2[3] = {-2.0 * c2 * m4 / (m2 * m2 * m2), c2 / (m2 * m2), 0.0};
-  r.var_a2 = variance(g2);
-  const double m2_3 = m2 * m2 * m2, m2_4 = m2_3 * m2;
-  const double H2[3][3] = {{6.0 * c2 * m4 / m2_4, -2.0 * c2 / m2_3, 0.0},
-                           {-2.0 * c2 / m2_3, 0.0, 0.0},
-                           {0.0, 0.0, 0.0}};
-  r.bias_a2 = bias(H2);
-  if (q == 3) {
-    r.a3 = 1.0 + 3.0 * r.a2 - c3 * m6 / (m2 * m2 * m2);
-    const double g3[3] = {3.0 * g2[0] + 3.0 * c3 * m6 / (m2 * m2 * m2 * m2), 3.0 * g2[1],
-                          -c3 / (m2 * m2 * m2)};
-    r.var_a3 = variance(g3);
-    const double H3[3][3] = {{3.0 * H2[0][0] - 12.0 * c3 * m6 / (m2_4 * m2), 3.0 * H2[0][1],
-                              3.0 * c3 / m2_4},
-                             {3.0 * H2[1][0], 0.0, 0.0},
-                             {3.0 * c3 / m2_4, 0.0, 0.0}};
-    r.bias_a3 = bias(H3);
-  }
-  return r;
-}
-
-/// The factor of the confidence half-width for a sigma with `dof` degrees of freedom: GRW05's
-/// lambda_p = 3.2 from 30 on, below the Student-t quantile of the same two-sided level.
-double confidence_factor(double dof) {
-  if (!(dof >= 1 && dof < 30)) return kLambdaP;
-  return gsl_cdf_tdist_Qinv(0.5 * std::erfc(kLambdaP / std::sqrt(2.0)), dof);
-}
-
 const char* const kA2Description =
     "a2 = 3/5 M4/M2^2 - 1, the second Sonine coefficient from the ensemble means of the speed "
     "moments (d = 3); ci by the delta method over the ensembles; bias: the ratio estimator's "
@@ -921,65 +767,20 @@ SteadyStats steady_stats(const DsmcRunConfig& config, const Record& record, cons
   const std::uint64_t P = set.P, W = set.width;
   const std::string& x = set.prefix;
   const std::uint64_t S = record.total("steady_samples"), N = record.ensembles();
-  SteadyStats r;
   const MeanCi all = k < W ? record.moments(x + "steady")[k].stats(S)
                            : record.moments(x + "moment_steady")[k - W].stats(S);
-  r.mean = all.mean;
-  r.variance = all.variance;
-  r.effective_samples = static_cast<double>(S);
-  r.dof = INFINITY;
-  if ((d.steady_ci_independent && !batch) || S == 0) {  // every (ensemble, t_m) sample counted independent
-    r.sigma = S ? std::sqrt(all.variance / static_cast<double>(S)) : 0.0;
-    r.ci = all.ci;
-    return r;
-  }
-  const std::uint64_t K = W + P, L = steady_block_levels(d), R = steady_rows(d);
-  const double Nd = static_cast<double>(N);
-  double var_mean = NAN;
-  if (N >= kSteadyMinEnsembles || L == 0) {
-    // Independent ensembles by construction: the spread of their time averages is honest.
-    r.estimator = "ensembles";
-    const Moments2& e = record.moments(x + "steady_ensemble")[k];
-    if (N >= 2) {
-      const double m = e.sum.value() / Nd;
-      const double s2 = std::max(0.0, (e.sum_sq.value() - Nd * m * m) / (Nd - 1));
-      var_mean = s2 / Nd;
-    }
-    r.dof = Nd - 1;
-  } else {
-    // Pooled blocking (Flyvbjerg & Petersen 1989): the blocked variance grows with the block
-    // length until the blocks are independent. The level: the smallest l with
-    // B^3 > 2 R (sigma_l^2 / sigma_0^2)^2, B = 2^l rows (Lee, Needs & Drummond 2011), else the
-    // longest blocks.
-    r.estimator = "blocking";
-    const auto& blocks = record.moments(x + "steady_blocks");
-    const double v0 = blocks[k].sum.value() / (Nd * Nd);
-    std::uint64_t chosen = L - 1;
-    for (std::uint64_t l = 0; l < L; ++l) {
-      const double vl = blocks[l * K + k].sum.value() / (Nd * Nd);
-      const double B = std::ldexp(1.0, static_cast<int>(l));
-      const double ratio = v0 > 0 ? vl / v0 : 1.0;
-      if (B * B * B > 2.0 * static_cast<double>(R) * ratio * ratio) {
-        chosen = l;
-        break;
-      }
-    }
-    var_mean = blocks[chosen * K + k].sum.value() / (Nd * Nd);
-    r.block_rows = std::uint64_t{1} << chosen;
-    r.dof = Nd * static_cast<double>(R / r.block_rows - 1);
-  }
-  r.sigma = std::sqrt(var_mean);
-  // tau_int = sigma^2 S / (2 variance), N_eff = S / (2 tau_int) = variance / sigma^2.
-  if (all.variance > 0 && var_mean > 0) {
-    r.tau_int = var_mean * static_cast<double>(S) / (2.0 * all.variance);
-    r.effective_samples = all.variance / var_mean;
-  } else if (!(var_mean >= 0)) {
-    r.tau_int = r.effective_samples = NAN;
-  }
-  // lambda_p = 3.2 for many degrees of freedom; below 30 the Student-t quantile of the same
-  // two-sided level, since sigma is then itself uncertain.
-  r.ci = confidence_factor(r.dof) * r.sigma;
-  return r;
+  const std::uint64_t K = W + P, L = steady_block_levels(d);
+  // Blocking within the ensembles (Flyvbjerg & Petersen 1989) only where too few ensembles give
+  // a spread of their own.
+  const SteadyEstimator how = d.steady_ci_independent && !batch ? SteadyEstimator::kIndependent
+                              : N >= kSteadyMinEnsembles || L == 0 ? SteadyEstimator::kEnsembles
+                                                                   : SteadyEstimator::kBlocking;
+  std::vector<double> blocked;
+  if (how == SteadyEstimator::kBlocking)
+    for (std::uint64_t l = 0; l < L; ++l)
+      blocked.push_back(record.moments(x + "steady_blocks")[l * K + k].sum.value());
+  return steady_interval(how, all, S, N, steady_rows(d), record.moments(x + "steady_ensemble")[k],
+                         blocked);
 }
 
 namespace {
@@ -1071,30 +872,6 @@ void present_row_set(H5Writer& out, const DsmcRunConfig& config, const Record& r
       out.attr(set.group, "particles", sp.count);
       if (d.roughness.on) out.attr(set.group, "inertia", sp.inertia);
     }
-}
-
-/// r = mu_x/mu_y of the ensemble means and its variance by the delta method, (V_x - 2 r C_xy +
-/// r^2 V_y)/(mu_y^2 N), with the (co)variances of (x, y) over the N ensembles (population: the
-/// series, as their ci; sample, N - 1: the steady averages, as /steady); written so that mu_x = 0
-/// (T_rot(0) = 0) gives 0, not 0/0. bias: the leading 1/N bias of a ratio of means, (r V_y -
-/// C_xy)/(mu_y^2 N) (second-order delta method).
-struct RatioStats {
-  double mean = 0.0, variance = 0.0, bias = 0.0;
-};
-RatioStats ratio_of_means(double mean_x, double mean_y, const Moments2& x, const Moments2& y,
-                          const Moments2& xy, std::uint64_t N, bool sample_covariance) {
-  const double n = static_cast<double>(N);
-  const double mx = x.sum.value() / n, my = y.sum.value() / n;
-  const double scale = sample_covariance ? n / (n - 1.0) : 1.0;
-  const double vx = std::max(0.0, x.sum_sq.value() / n - mx * mx) * scale;
-  const double vy = std::max(0.0, y.sum_sq.value() / n - my * my) * scale;
-  const double cxy = (xy.sum.value() / n - mx * my) * scale;
-  RatioStats r;
-  r.mean = mean_x / mean_y;
-  const double my2n = mean_y * mean_y * n;
-  r.variance = std::max(0.0, (vx - 2.0 * r.mean * cxy + r.mean * r.mean * vy) / my2n);
-  r.bias = (r.mean * vy - cxy) / my2n;
-  return r;
 }
 
 /// The datasets of one ratio (ratio_sets): <group>/{mean,ci,bias} [M+1] and with steady_from

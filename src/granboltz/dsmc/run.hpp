@@ -10,6 +10,7 @@
 #include "granboltz/exec/run_frame.hpp"
 #include "granboltz/h5/hdf5_io.hpp"
 #include "granboltz/record/record.hpp"
+#include "granboltz/stats/steady.hpp"
 
 namespace granboltz {
 
@@ -63,19 +64,9 @@ std::vector<RatioSet> ratio_sets(const DsmcConfig& d);
 /// batch); with fewer, from blocking within the ensembles.
 inline constexpr std::uint64_t kSteadyMinEnsembles = 10;
 
-/// The steady-state statistics of one scalar: index k < kNumScalars is a component of an
-/// Observation, kNumScalars + p - 1 the speed moment <|v - V|^{2p}> (docs/output.md).
-struct SteadyStats {
-  double mean = 0.0;
-  double variance = 0.0;           ///< over all (ensemble, t_m) samples, as before
-  double sigma = 0.0;              ///< standard error of the mean
-  double ci = 0.0;                 ///< confidence half-width from sigma
-  double tau_int = 0.5;            ///< sigma^2 samples / (2 variance), in observation rows
-  double effective_samples = 0.0;  ///< samples / (2 tau_int)
-  double dof = 0.0;                ///< degrees of freedom of sigma (inf: independent)
-  std::uint64_t block_rows = 1;    ///< blocking: the block length chosen, in rows
-  const char* estimator = "independent";  ///< "ensembles" | "blocking" | "independent"
-};
+/// The steady-state statistics of one scalar (stats/steady.hpp): index k < kNumScalars is a
+/// component of an Observation, kNumScalars + p - 1 the speed moment <|v - V|^{2p}>
+/// (docs/output.md).
 /// `batch`: the batch estimator even where the config asks for steady_ci: independent.
 SteadyStats steady_stats(const DsmcRunConfig& config, const Record& record, std::uint64_t k,
                          bool batch = false);

@@ -30,4 +30,13 @@ struct Moments2 {
   MeanCi stats(std::uint64_t count) const;
 };
 
+/// The factor of the confidence half-width for a sigma with `dof` degrees of freedom: GRW05's
+/// lambda_p = 3.2 from 30 on (and for a dof that is not a number >= 1), below the Student-t
+/// quantile of the same two-sided level, since sigma is then itself uncertain.
+double confidence_factor(double dof);
+
+/// The variance of the mean of `count` independent samples from their sums: the sample variance
+/// (count - 1) over count; NaN below 2 samples.
+double variance_of_mean(const Moments2& m, std::uint64_t count);
+
 }  // namespace granboltz
