@@ -92,24 +92,17 @@ GasEnsemble::GasEnsemble(const DsmcConfig& config, std::uint64_t seed, std::uint
   Engine init = make_stream(seed, ensemble, Consumer::kInitial);
   Vec3 momentum;
   double total_mass = 0.0;
-  const auto tensor = c_.initial_temperature_tensor.empty()
-                          ? std::nullopt
-                          : temperature_factor(c_.initial_temperature_tensor, c_.dimension);
-  // A skewed start: every species has the heat flux q of its velocities scaled by sqrt(m_a)
-  // (the output's convention), the same reduced state x = v / sqrt(T0/m_a).
-  const auto skew = c_.initial_heat_flux.empty()
-                        ? std::nullopt
-                        : std::optional(skewed_state(c_.initial_heat_flux, c_.dimension,
-                                                     c_.initial_temperature));
+  // A prepared start per species: an anisotropic Maxwellian of covariance T / m_a, or a skewed
+  // state in which every species has the heat flux q of its velocities scaled by sqrt(m_a) (the
+  // output's convention), the same reduced state x = v / sqrt(T0/m_a).
+  const PreparedStart start = prepared_start(c_.initial_temperature_tensor, c_.initial_heat_flux,
+                                             c_.dimension, c_.initial_temperature);
   for (std::size_t a = 0; a < c_.species.size(); ++a) {
     const double sd = std::sqrt(c_.initial_temperature / mass_[a]);
     const auto& sp = c_.species[a];
     for (std::uint64_t i = sp.offset; i < sp.offset + sp.count; ++i) {
-      // An anisotropic Maxwellian: covariance T / m_a.
-      if (tensor)
-        p_[i].v = anisotropic_velocity(*tensor, c_.dimension, 1.0 / std::sqrt(mass_[a]), init);
-      else if (skew)
-        p_[i].v = skewed_velocity(*skew, c_.dimension, sd, init);
+      if (const auto v = start.velocity(mass_[a], init))
+        p_[i].v = *v;
       else
         p_[i].v = sd * normals(c_.dimension, init);
       p_[i].t = 0.0;

@@ -102,4 +102,32 @@ inline Vec3 skewed_velocity(const SkewedState& st, int d, double sd, E& eng) {
   }
 }
 
+/// What dsmc.initial prepares beyond the isotropic Maxwellian of T0, made once per ensemble.
+struct PreparedStart {
+  std::optional<std::array<double, 9>> tensor;  // the Cholesky factor of the temperature tensor
+  std::optional<SkewedState> skew;
+  int d = 3;
+  double T0 = 1.0;
+  /// A velocity of a particle of mass m, or none for the isotropic Maxwellian, which each
+  /// engine draws as it always has (its bits).
+  template <class E>
+  std::optional<Vec3> velocity(double m, E& eng) const {
+    if (tensor) return anisotropic_velocity(*tensor, d, 1.0 / std::sqrt(m), eng);
+    if (skew) return skewed_velocity(*skew, d, std::sqrt(T0 / m), eng);
+    return std::nullopt;
+  }
+};
+
+/// The start of the config's temperature tensor and heat flux (empty: not given; both checked
+/// by the config).
+inline PreparedStart prepared_start(const std::vector<double>& tensor,
+                                    const std::vector<double>& heat_flux, int d, double T0) {
+  PreparedStart s;
+  s.d = d;
+  s.T0 = T0;
+  if (!tensor.empty()) s.tensor = temperature_factor(tensor, d);
+  if (!heat_flux.empty()) s.skew = skewed_state(heat_flux, d, T0);
+  return s;
+}
+
 }  // namespace granboltz

@@ -567,19 +567,12 @@ WeightedEnsemble::WeightedEnsemble(const DsmcConfig& config, std::uint64_t seed,
       progress_(progress) {
   Engine init = make_stream(seed, ensemble, Consumer::kInitial);
   const double sd = std::sqrt(c_.initial_temperature);
-  const auto tensor = c_.initial_temperature_tensor.empty()
-                          ? std::nullopt
-                          : temperature_factor(c_.initial_temperature_tensor, c_.dimension);
-  const auto skew = c_.initial_heat_flux.empty()
-                        ? std::nullopt
-                        : std::optional(skewed_state(c_.initial_heat_flux, c_.dimension,
-                                                     c_.initial_temperature));
+  const PreparedStart start = prepared_start(c_.initial_temperature_tensor, c_.initial_heat_flux,
+                                             c_.dimension, c_.initial_temperature);
   Vec3 sum;
   for (auto& q : p_) {
-    if (tensor) {
-      q.v = anisotropic_velocity(*tensor, c_.dimension, 1.0, init);
-    } else if (skew) {
-      q.v = skewed_velocity(*skew, c_.dimension, sd, init);
+    if (const auto v = start.velocity(1.0, init)) {
+      q.v = *v;
     } else if (c_.dimension == 2) {  // the same draws as the constant-weight engine's
       const double x = normal(init);
       const double y = normal(init);
