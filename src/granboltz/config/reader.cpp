@@ -501,13 +501,19 @@ bool Section::is_sequence(const std::string& key) const {
 
 bool Section::is_mapping(const std::string& key) const { return has(key) && node_[key].IsMap(); }
 
-std::vector<Section> Section::list(const std::string& key, std::size_t max) const {
-  const YAML::Node n = at(key, "a list of mappings", false);
+YAML::Node Section::sequence(const std::string& key, const std::string& what,
+                             std::size_t max) const {
+  const YAML::Node n = at(key, "a list of " + what, false);
   if (!n.IsSequence() || n.size() == 0)
-    throw ConfigError(name(key) + " = " + shown(n) + ": must be a non-empty list of mappings");
+    throw ConfigError(name(key) + " = " + shown(n) + ": must be a non-empty list of " + what);
   if (n.size() > max)
     throw ConfigError(name(key) + ": " + std::to_string(n.size()) + " entries: at most " +
                       std::to_string(max) + " allowed");
+  return n;
+}
+
+std::vector<Section> Section::list(const std::string& key, std::size_t max) const {
+  const YAML::Node n = sequence(key, "mappings", max);
   std::vector<Section> out;
   for (std::size_t i = 0; i < n.size(); ++i)
     out.emplace_back(n[i], name(key) + "[" + std::to_string(i) + "]");
@@ -515,12 +521,7 @@ std::vector<Section> Section::list(const std::string& key, std::size_t max) cons
 }
 
 std::vector<double> Section::reals(const std::string& key, std::size_t max) const {
-  const YAML::Node n = at(key, "a list of numbers", false);
-  if (!n.IsSequence() || n.size() == 0)
-    throw ConfigError(name(key) + " = " + shown(n) + ": must be a non-empty list of numbers");
-  if (n.size() > max)
-    throw ConfigError(name(key) + ": " + std::to_string(n.size()) + " entries: at most " +
-                      std::to_string(max) + " allowed");
+  const YAML::Node n = sequence(key, "numbers", max);
   std::vector<double> out;
   out.reserve(n.size());
   for (const auto& x : n) out.push_back(real_of(x, key + "[" + std::to_string(out.size()) + "]"));

@@ -90,6 +90,8 @@ class Section {
  private:
   /// The value of a written key that is not null; `what` is what it must be ("a number").
   YAML::Node at(const std::string& key, const std::string& what, bool has_default) const;
+  // The non-empty list at key (of `what`: "mappings", "numbers") of at most max entries.
+  YAML::Node sequence(const std::string& key, const std::string& what, std::size_t max) const;
   double real_of(const YAML::Node& n, const std::string& key) const;
   std::uint64_t integer_of(const YAML::Node& n, const std::string& key,
                            const IntegerRange& range) const;
