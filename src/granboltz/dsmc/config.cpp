@@ -234,6 +234,65 @@ void read_roughness(const Section& s, DsmcConfig& c) {
   }
   r.finish({"beta", "inertia"});
 }
+// A flight parameter written as a number or as a mapping of species names to numbers (the
+// mapping needs dsmc.species, as roughness.inertia does).
+std::vector<double> read_per_species(const Section& s, const DsmcConfig& c, const std::string& key,
+                                     bool negative) {
+  if (!c.species_written)
+    throw ConfigError(s.name(key) + ": per species needs dsmc.species; give a number");
+  const Section m = s.sub(key);
+  std::vector<std::string> names;
+  for (const auto& sp : c.species) names.push_back(sp.name);
+  m.finish(names);
+  std::vector<double> values;
+  for (const auto& sp : c.species) {
+    values.push_back(m.real(sp.name));
+    if (!negative) m.check(values.back() >= 0, sp.name, values.back(), "must be >= 0");
+  }
+  return values;
+}
+
+// dsmc.<name>: {<key>: value} of one section flight (physics/flight/list.hpp).
+template <class F>
+void read_flight(const Section& s, const DsmcConfig& c, F, FlightParam& p) {
+  if (!s.has(F::kName)) return;
+  const Section f = s.sub(F::kName);
+  if (F::kPerSpecies && f.is_mapping(F::kKey)) {
+    p.per_species = read_per_species(f, c, F::kKey, F::kNegative);
+    p.value = *std::max_element(p.per_species.begin(), p.per_species.end());
+  } else {
+    p.value = f.real(F::kKey);
+    if (F::kNegative)
+      f.check(std::isfinite(p.value) && std::abs(p.value) <= 1e150, F::kKey, p.value,
+              "must be a finite number with |value| <= 1e150");
+    else
+      f.check(p.value >= 0 && p.value <= 1e150, F::kKey, p.value, "must satisfy 0 <= value <= 1e150");
+  }
+  f.finish({F::kKey});
+}
+// Where a free flight cannot run exactly, one line naming its key.
+void check_flights(const Section& s, const DsmcConfig& c) {
+  const bool drag = s.has("drag"), shear = s.has("shear");
+  const std::string key = shear ? s.name("shear") : drag ? s.name("drag") : s.name("beta");
+  if (c.weights.swpm && (drag || shear || !c.beta_species.empty()))
+    throw ConfigError(key + ": not available with dsmc.weights (weighted particles keep white "
+                      "noise of one strength only)");
+  if (c.general() && shear)
+    throw ConfigError(s.name("shear") + ": not available for mixtures or rough particles "
+                      "(dsmc.species, dsmc.roughness); shear flow runs one smooth species");
+  if (c.general() && drag)
+    throw ConfigError(s.name("drag") + ": not available for mixtures or rough particles "
+                      "(dsmc.species, dsmc.roughness) yet");
+  if (!shear) return;
+  if (c.majorant == MajorantKind::kPairwise)
+    throw ConfigError(s.name("majorant") + " = pairwise: not exact with dsmc.shear (the drift "
+                      "between events moves the weights); use majorant: global or auto");
+  if (c.thermostat == Thermostat::kGaussian && c.scheme == Scheme::kNoSplit &&
+      (c.kernel.lambda != 0 || !is_constant(c.restitution)))
+    throw ConfigError(s.name("shear") + ": with thermostat gaussian and scheme nosplit needs "
+                      "kernel.lambda = 0 and a constant alpha (the scale then never enters an "
+                      "event); use scheme strang (or euler) for this kernel");
+}
 }  // namespace
 
 DsmcConfig read_dsmc(const Section& s) {
@@ -288,7 +347,10 @@ DsmcConfig read_dsmc(const Section& s) {
   ThermostatList::each([&](auto th) {
     if (thermostat == decltype(th)::kName) c.thermostat = decltype(th)::kId;
   });
-  if (c.thermostat == Thermostat::kWhiteNoise) {
+  if (c.thermostat == Thermostat::kWhiteNoise && s.is_mapping("beta")) {
+    c.beta_species = read_per_species(s, c, "beta", false);
+    c.beta = *std::max_element(c.beta_species.begin(), c.beta_species.end());
+  } else if (c.thermostat == Thermostat::kWhiteNoise) {
     c.beta = s.real("beta");
     s.check(c.beta >= 0, "beta", c.beta, "must be >= 0 (0 is free cooling)");
   } else {  // only white noise heats: beta may be left out, and must then be 0
@@ -296,6 +358,14 @@ DsmcConfig read_dsmc(const Section& s) {
     s.check(c.beta == 0, "beta", c.beta,
             "must be 0 with thermostat " + thermostat + " (only white_noise heats)");
   }
+  flight::SectionFlights::each([&](auto f, int k) {
+    c.flight_written[k] = s.has(decltype(f)::kName);
+    read_flight(s, c, f, c.flights[k]);
+  });
+  if (c.drag_gamma() > 0 && c.thermostat == Thermostat::kGaussian)
+    throw ConfigError(s.name("drag") + ": given with thermostat gaussian, which holds T itself "
+                      "(it would absorb the drag); use thermostat white_noise (drag with noise) "
+                      "or none (drag alone)");
   c.kernel.gamma = s.real("gamma", 1.0);
   s.check(c.kernel.gamma > 0, "gamma", c.kernel.gamma, "must be > 0");
 
@@ -521,7 +591,8 @@ DsmcConfig read_dsmc(const Section& s) {
       for (auto& sp : c.species) sp.inertia = c.roughness.on ? c.roughness.inertia : 0.0;
   }
   if (c.majorant_auto) c.majorant = auto_majorant(c);
-  s.finish({"particles", "species", "roughness", "dimension", "geometry", "scheme", "steps", "alpha", "beta", "thermostat", "gamma", "kernel",
+  check_flights(s, c);
+  s.finish({"particles", "species", "roughness", "dimension", "geometry", "scheme", "steps", "alpha", "beta", "drag", "shear", "thermostat", "gamma", "kernel",
             "initial", "t_end", "observe_every", "observe", "histogram", "majorant", "majorant_update",
             "moments", "restitution",
             "steady_from", "steady_ci", "weights"});
@@ -577,7 +648,30 @@ void emit_dsmc(YAML::Emitter& out, const DsmcConfig& c) {
     }
     out << YAML::EndMap;
   }
-  out << YAML::Key << "beta" << YAML::Value << format_real(c.beta);
+  if (c.beta_species.empty()) {
+    out << YAML::Key << "beta" << YAML::Value << format_real(c.beta);
+  } else {
+    out << YAML::Key << "beta" << YAML::Value << YAML::Flow << YAML::BeginMap;
+    for (std::size_t a = 0; a < c.species.size(); ++a)
+      out << YAML::Key << c.species[a].name << YAML::Value << format_real(c.beta_species[a]);
+    out << YAML::EndMap;
+  }
+  // dsmc.drag, dsmc.shear: written only when given, so the text of other configs stays.
+  flight::SectionFlights::each([&](auto f, int k) {
+    const FlightParam& p = c.flights[k];
+    if (!c.flight_written[k]) return;
+    out << YAML::Key << decltype(f)::kName << YAML::Value << YAML::Flow << YAML::BeginMap
+        << YAML::Key << decltype(f)::kKey << YAML::Value;
+    if (p.per_species.empty()) {
+      out << format_real(p.value);
+    } else {
+      out << YAML::Flow << YAML::BeginMap;
+      for (std::size_t a = 0; a < c.species.size(); ++a)
+        out << YAML::Key << c.species[a].name << YAML::Value << format_real(p.per_species[a]);
+      out << YAML::EndMap;
+    }
+    out << YAML::EndMap;
+  });
   out << YAML::Key << "thermostat" << YAML::Value << thermostat_name(c.thermostat);
   out << YAML::Key << "gamma" << YAML::Value << format_real(c.kernel.gamma);
   out << YAML::Key << "kernel" << YAML::Value << YAML::Flow << YAML::BeginMap
@@ -679,6 +773,7 @@ MajorantKind auto_majorant(const DsmcConfig& c) {
   const bool kicks_between_events =
       c.scheme == Scheme::kNoSplit && c.thermostat == Thermostat::kWhiteNoise && c.beta > 0;
   if (c.kernel.lambda == 0 || kicks_between_events || c.weights.swpm || c.general() ||
+      c.shear_rate() != 0.0 ||
       c.particles > kAutoPairwiseMaxParticles)
     return MajorantKind::kGlobal;
   return MajorantKind::kPairwise;

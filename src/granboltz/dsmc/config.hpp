@@ -1,10 +1,12 @@
 #pragma once
 // The `dsmc:` section of a run config: GRW05 / RW05 parameters.
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <string>
 #include <vector>
 
+#include "granboltz/physics/flight/list.hpp"
 #include "granboltz/physics/kernel.hpp"
 #include "granboltz/physics/restitution/laws.hpp"
 #include "granboltz/physics/thermostat/list.hpp"
@@ -93,6 +95,17 @@ struct RoughnessSpec {
   bool inertia_per_species = false;
 };
 
+/// The parameter of one section flight (dsmc.drag.gamma, dsmc.shear.rate; physics/flight/): 0 is
+/// off. Written as a mapping of species names, per_species holds one value per species (in the
+/// order of dsmc.species) and value their largest.
+struct FlightParam {
+  double value = 0.0;
+  std::vector<double> per_species;
+  double of(std::size_t species) const {
+    return per_species.empty() ? value : per_species[species];
+  }
+};
+
 /// The most species dsmc.species may list.
 inline constexpr std::size_t kMaxSpecies = 16;
 
@@ -106,7 +119,11 @@ struct DsmcConfig {
   /// dsmc.restitution: the law eps(g_n). ConstantRestitution{alpha} unless another law is given
   /// (then alpha is 1 and unused).
   RestitutionLaw restitution;
-  double beta = 0.0;        ///< heating strength (white noise), >= 0
+  double beta = 0.0;        ///< heating strength (white noise), >= 0; the largest if per species
+  std::vector<double> beta_species;  ///< dsmc.beta as a mapping of species names (else empty)
+  /// dsmc.drag, dsmc.shear: the section flights' parameters, in flight::SectionFlights order.
+  std::array<FlightParam, flight::SectionFlights::kCount> flights{};
+  std::array<bool, flight::SectionFlights::kCount> flight_written{};  ///< the section was given
   Thermostat thermostat = Thermostat::kWhiteNoise;
   VhsKernel kernel;         ///< lambda, C, and gamma (the prefactor of the collision term)
   double initial_temperature = 1.0;  ///< T0; with a tensor its trace / d
@@ -147,6 +164,14 @@ struct DsmcConfig {
 
   /// The general gas engine (dsmc/gas.hpp) runs it: mixtures or rough particles.
   bool general() const { return species_written || roughness.on; }
+  double drag_gamma() const { return flights[0].value; }
+  double shear_rate() const { return flights[1].value; }
+  /// Drag or shear between the collisions (beyond the papers' white noise).
+  bool linear_flight() const { return drag_gamma() != 0.0 || shear_rate() != 0.0; }
+  /// The free flight of species a (0 for one species).
+  LinearFlight flight_of(std::size_t a) const {
+    return {beta_species.empty() ? beta : beta_species[a], flights[0].of(a), flights[1].of(a)};
+  }
   /// alpha of the pair of species (a, b).
   double pair_alpha(std::size_t a, std::size_t b) const {
     return alpha_matrix.empty() ? alpha : alpha_matrix[a * species.size() + b];

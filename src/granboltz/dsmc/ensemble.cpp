@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 #include "granboltz/core/hot.hpp"
 #include "granboltz/physics/collision.hpp"
 #include "granboltz/physics/geometry.hpp"
+#include "granboltz/physics/flight/shear.hpp"
 #include "granboltz/physics/heating.hpp"
 #include "granboltz/physics/restitution/collide.hpp"
 #include "granboltz/random/samplers.hpp"
@@ -20,6 +22,17 @@ namespace {
 constexpr std::uint64_t kProgressMask = (1u << 20) - 1;
 // A requested pause is noticed within this many events (well under a millisecond).
 constexpr std::uint64_t kPauseMask = (1u << 14) - 1;
+
+// The no-splitting loop's marker for drag or shear: its kicks are the flight's propagator.
+struct LinearFlightKicks {
+  static constexpr bool kKicks = true;
+  static constexpr bool kLazyScale = false;
+};
+
+// Shear: a window of the majorant lasts a |a| t = 0.45, over which a speed grows by at most
+// flight::Shear::growth(0.45) = 1.25: the acceptance costs at most 1/1.25 of the events, and the
+// O(n) sync at each window's end stays a small part of the collisions in it.
+constexpr double kShearWindow = 0.45;
 
 // The lambda cases with a loop of their own: Maxwell molecules, hard spheres, lambda = 1/2, other.
 constexpr int kMaxwell = 0, kHardSpheres = 1, kHalf = 2, kGeneral = 3;
@@ -50,6 +63,8 @@ DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, std::uint64_t seed, std::ui
       p_(config.particles),
       adapt_factor2_(config.majorant_update == MajorantUpdate::kStrict ? 4.0 : 1.0),
       heated_(config.thermostat == Thermostat::kWhiteNoise && config.beta > 0.0),
+      flight_(config.flight_of(0)),
+      linear_(config.linear_flight()),
       gaussian_(config.thermostat == Thermostat::kGaussian),
       events_(make_stream(seed, ensemble, Consumer::kEvents)),
       pairs_(make_stream(seed, ensemble, Consumer::kPairs)),
@@ -75,10 +90,11 @@ DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, std::uint64_t seed, std::ui
     sum += q.v;
   }
   v0_ = (1.0 / static_cast<double>(p_.size())) * sum;
+  if (linear_) set_flight_frame();
   if (gaussian_) fold_scale();  // the thermostat holds T at T0 exactly, from t = 0 on
   double r2 = 0.0;
   for (const auto& q : p_) r2 = std::max(r2, norm2(q.v - v0_));
-  set_majorant(2.0 * std::sqrt(r2));
+  set_majorant(2.0 * growth_ * std::sqrt(r2));
   if (pairwise_) {
     w_.resize(p_.size());
     reweigh_all();
@@ -97,17 +113,54 @@ void DsmcEnsemble::set_velocities(const std::vector<Vec3>& v) {
     p_[i].t = t_;
     sum += v[i];
   }
-  v0_ = (1.0 / static_cast<double>(p_.size())) * sum;
+  v0_ = linear_ ? Vec3{} : (1.0 / static_cast<double>(p_.size())) * sum;
   if (gaussian_) fold_scale();
   double r2 = 0.0;
   for (const auto& q : p_) r2 = std::max(r2, norm2(q.v - v0_));
-  set_majorant(2.0 * std::sqrt(r2));
+  set_majorant(2.0 * growth_ * std::sqrt(r2));
   if (pairwise_) reweigh_all();
 }
 
 std::uint64_t DsmcEnsemble::random_draws() const {
   return events_.draws() + pairs_.draws() + sweep_.draws() + candidates_.draws() +
          partners_.draws();
+}
+
+// ---- Drag and shear (physics/flight/) ----
+
+void DsmcEnsemble::set_flight_frame() {
+  // Drag pulls every velocity towards 0 and shear turns it about 0, so the majorant is centred
+  // there: |v_i - v_j| <= |v_i| + |v_j| holds whatever the centre, and a drift never carries a
+  // speed about 0 beyond its growth factor. Shear flow is seen from the frame of the flow: the
+  // velocities are centred (zero momentum, so that the mean stays 0 under the drift).
+  if (flight_.shear != 0.0) {
+    for (auto& q : p_) q.v = q.v - v0_;
+    window_ = kShearWindow / std::abs(flight_.shear);
+    if (gaussian_)  // the scale is folded at each window's end: cooling by at most e^-1 per window
+      window_ = std::min(window_, 4.0 / (c_.kernel.area * c_.kernel.gamma * c_.kernel.C));
+    growth_ = flight::Shear::growth(kShearWindow);
+    adapt_factor2_ *= growth_ * growth_;
+  }
+  v0_ = Vec3{};
+}
+
+void DsmcEnsemble::fly_all_to(double s) {
+  Engine sweep = sweep_;
+  const bool plane = c_.dimension == 2;
+  for (auto& q : p_) {
+    q.v = plane ? flight_.propagate<2>(q.v, s - q.t, sweep) : flight_.propagate<3>(q.v, s - q.t, sweep);
+    q.t = s;
+  }
+  sweep_ = sweep;
+  counts_.kicks += p_.size();
+}
+
+void DsmcEnsemble::start_window() {
+  // Every particle is at the window's start: U = 2 g max |v| bounds every relative speed until
+  // its end, and the collisions in it keep that bound (adapt_factor2_ holds g^2).
+  double r2 = 0.0;
+  for (const auto& q : p_) r2 = std::max(r2, norm2(q.v));
+  set_majorant(2.0 * growth_ * std::sqrt(r2));
 }
 
 // ---- Global majorant (GRW05 §4, RW05 §3.4) ----
@@ -344,7 +397,12 @@ bool DsmcEnsemble::run_nosplit(double s, const std::atomic<bool>* pause) {
     double bound = 0.0;
     if constexpr (kPairwise) bound = w_[pair.i] + w_[pair.j];
     if constexpr (kHeated) {  // step 2.5: kick both partners up to the event time
-      noise.template kick_pair<G::kDim>(a.v, t_ - a.t, b.v, t_ - b.t, ev);
+      if constexpr (std::is_same_v<Heat, LinearFlightKicks>) {
+        a.v = flight_.template propagate<G::kDim>(a.v, t_ - a.t, ev);
+        b.v = flight_.template propagate<G::kDim>(b.v, t_ - b.t, ev);
+      } else {
+        noise.template kick_pair<G::kDim>(a.v, t_ - a.t, b.v, t_ - b.t, ev);
+      }
       a.t = t_;
       b.t = t_;
       counts.kicks += 2;
@@ -395,7 +453,10 @@ bool DsmcEnsemble::run_nosplit(double s, const std::atomic<bool>* pause) {
 }
 
 void DsmcEnsemble::kick_all_to(double s) {
-  if (heated_) {
+  if (linear_) {
+    fly_all_to(s);
+    adapt_majorant_all();
+  } else if (heated_) {
     Engine sweep = sweep_;
     const std::size_t n = p_.size();
     const bool plane = c_.dimension == 2;
@@ -474,6 +535,20 @@ void DsmcEnsemble::collide_during(double h) {
 }
 
 void DsmcEnsemble::kick_all_by(double h) {
+  if (linear_) {
+    // Drag or shear: the flight of every particle over the step. Under the Gaussian thermostat
+    // (shear only, no noise) the flight is linear, so it commutes with the lazy scale, which is
+    // folded after it: T is T0 again at the step's end.
+    Engine sweep = sweep_;
+    const bool plane = c_.dimension == 2;
+    for (auto& q : p_)
+      q.v = plane ? flight_.propagate<2>(q.v, h, sweep) : flight_.propagate<3>(q.v, h, sweep);
+    sweep_ = sweep;
+    counts_.kicks += p_.size();
+    if (gaussian_) rescale();
+    else adapt_majorant_all();
+    return;
+  }
   if (!heated_) return;
   // Blocks: first the normals (the ziggurat is scalar), then a branch-free update that the
   // compiler vectorises. Same numbers, in the same order, as kicking pair by pair.
@@ -553,13 +628,35 @@ bool DsmcEnsemble::advance_to(double s, const std::atomic<bool>* pause) {
     // White noise with beta = 0 is free cooling: the loop without kicks.
     const Thermostat loop = heated_ ? Thermostat::kWhiteNoise : gaussian_ ? Thermostat::kGaussian
                                                                           : Thermostat::kNone;
-    dispatch(c_, lc, pairwise_, [&]<int L, bool P, class G>() {
-      ThermostatList::with(loop, [&](auto heat) {
-        reached = run_nosplit<decltype(heat), L, P, G>(s, pause);
+    if (linear_) {
+      // Shear: windows of the majorant on the grid k * window_, each started with every
+      // particle at its start (next_window_ is part of the state, so a pause or a checkpoint
+      // continues the same windows).
+      for (;;) {
+        const bool windowed = window_ > 0.0;
+        const double end = windowed ? static_cast<double>(next_window_) * window_ : s;
+        const double until = std::min(end, s);
+        dispatch(c_, lc, pairwise_, [&]<int L, bool P, class G>() {
+          reached = run_nosplit<LinearFlightKicks, L, P, G>(until, pause);
+        });
+        if (!reached) return false;
+        kick_all_to(until);
+        t_ = until;
+        if (!windowed || until < end) break;
+        ++next_window_;
+        if (gaussian_) fold_scale();
+        start_window();
+        if (until == s) break;
+      }
+    } else {
+      dispatch(c_, lc, pairwise_, [&]<int L, bool P, class G>() {
+        ThermostatList::with(loop, [&](auto heat) {
+          reached = run_nosplit<decltype(heat), L, P, G>(s, pause);
+        });
       });
-    });
-    if (!reached) return false;
-    kick_all_to(s);  // step 3.1 / Remark 2
+      if (!reached) return false;
+      kick_all_to(s);  // step 3.1 / Remark 2
+    }
     t_ = s;
   } else {
     auto collide_for = [&](double h) {
@@ -651,6 +748,7 @@ void DsmcEnsemble::save(H5Writer& out, const std::string& g) const {
     write_index_stream(out, g + "/partners", partners_);
   }
   if (gaussian_) out.write(g + "/thermostat", std::vector<double>{gauss_.energy, gauss_.target}, {2});
+  if (window_ > 0.0) out.write(g + "/flight_window", std::vector<std::uint64_t>{next_window_}, {1});
 }
 
 DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, const H5Reader& in, const std::string& g,
@@ -659,6 +757,8 @@ DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, const H5Reader& in, const s
       p_(config.particles),
       adapt_factor2_(config.majorant_update == MajorantUpdate::kStrict ? 4.0 : 1.0),
       heated_(config.thermostat == Thermostat::kWhiteNoise && config.beta > 0.0),
+      flight_(config.flight_of(0)),
+      linear_(config.linear_flight()),
       gaussian_(config.thermostat == Thermostat::kGaussian),
       events_(read_engine(in, g + "/events_stream")),
       pairs_(read_engine(in, g + "/pairs_stream")),
@@ -720,6 +820,21 @@ DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, const H5Reader& in, const s
     gauss_.energy = th[0];
     gauss_.target = th[1];
     set_scale();
+  }
+  if (linear_) {
+    if (flight_.shear != 0.0) {  // the window and the majorant's growth factor, as constructed
+      window_ = kShearWindow / std::abs(flight_.shear);
+      if (gaussian_)
+        window_ = std::min(window_, 4.0 / (c_.kernel.area * c_.kernel.gamma * c_.kernel.C));
+      growth_ = flight::Shear::growth(kShearWindow);
+      adapt_factor2_ *= growth_ * growth_;
+      const auto w = in.read_uint64(g + "/flight_window");
+      if (w.size() != 1 || w[0] == 0 || !(static_cast<double>(w[0]) * window_ > t_) ||
+          !(static_cast<double>(w[0] - 1) * window_ <= t_))
+        refuse("a shear window that does not hold the time");
+      next_window_ = w[0];
+    }
+    if (v0_.x != 0.0 || v0_.y != 0.0 || v0_.z != 0.0) refuse("a majorant centre off 0 under drag or shear");
   }
 }
 

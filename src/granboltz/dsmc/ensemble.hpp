@@ -87,6 +87,9 @@ class DsmcEnsemble {
   template <int kLambda, bool kPairwise>
   Pair select_pair(Engine& pairs);  // candidate pair of the majorant process
   void kick_all_by(double h);      // kicking step of length h (splitting schemes)
+  void set_flight_frame();         // drag or shear: the majorant's centre 0 (and the shear frame)
+  void fly_all_to(double s);       // drag or shear: every particle's flight from its time to s
+  void start_window();             // shear: the majorant for the window that starts now
   void kick_all_to(double s);      // kick every particle from its own last time to s
   template <int kLambda>
   bool accept(double u2, Engine& events);  // global majorant: real (not fictitious) collision?
@@ -122,6 +125,14 @@ class DsmcEnsemble {
   double inv_rate_ = 0.0; // 1 / pi_hat, pi_hat = 2 pi gamma C (n - 1) U_max^lambda
   double adapt_factor2_;  // (1 or 2)^2: paper or strict majorant update
   bool heated_;           // white noise with beta > 0
+  // Drag or shear (physics/flight/): every kick is the flight's exact propagator, the majorant
+  // is centred on 0 (the flights contract or shear about it), and with shear it allows for the
+  // growth of a speed over one window of the drift (growth_ = its largest factor).
+  LinearFlight flight_;
+  bool linear_;
+  double window_ = 0.0;           // shear: the length of a majorant window
+  std::uint64_t next_window_ = 1; // shear, nosplit: the window that ends at next_window_ * window_
+  double growth_ = 1.0;
   bool gaussian_;         // dsmc.thermostat: gaussian
   GaussianThermostat gauss_;  // gaussian: the lazy scale's sums and s^2
   double clock_ = 1.0;    // gaussian, pairwise majorant: s^-lambda (the rate is in w units)
