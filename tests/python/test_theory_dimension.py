@@ -10,7 +10,7 @@ import types
 import pytest
 
 THEORY_MODULES = ["sonine", "theory", "maxwell_hierarchy", "viscoelastic", "tail_theory", "hcs_tail", "beyond",
-                  "disks", "mixtures", "rough", "moment_checks"]
+                  "disks", "mixtures", "rough", "moment_checks", "shear"]
 
 # d-free, and why: data (rows, verdicts, fits of a run's numbers), utilities, or another model's formula
 D_FREE = {
@@ -81,6 +81,12 @@ CASES = {
     "rough.hcs_theta": ((0.8, 0.5), TWO), "rough.white_noise_theta": ((0.5,), TWO), "rough.theta": (("gaussian", 0.8, 0.5), TWO),
     "moment_checks.moment_rows": (([3.0], [0.1], "1/2", 1, 1, 1, 0.5), THREE),
     "moment_checks.amplitude_rows": (("1/2", 1, 1, 6), THREE),
+    "shear.maxwell_second_moment_rate": ((1.0, 0.5, 1.0, 0.3), TWO),
+    "shear.maxwell_second_moments": ((1.0, 0.5, 1.0, 0.08, 0.3), TWO),
+    "shear.maxwell_steady_shear_rate": ((0.5, 1.0, 0.08), TWO), "shear.maxwell_usf_ratios": ((0.5,), TWO),
+    "shear.maxwell_gaussian_usf_ratios": ((0.5, 1.0, 1.0, 0.08), TWO),
+    "shear.hard_sphere_nu0": ((1.0, 1.0, 0.08), THREE), "shear.hard_sphere_usf_grad": ((0.5, 1.0, 1.0, 0.08), THREE),
+    "shear.maxwell_drag_a2": ((0.5, 1.0), THREE), "shear.hard_sphere_drag_state": ((0.5, 1.0, 0.5, 1.0, 0.08), THREE),
 }
 
 

@@ -1,5 +1,6 @@
 #include "granboltz/app/estimate.hpp"
 
+#include <array>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -91,6 +92,10 @@ constexpr double kFixedSeconds = 0.014;
 // which have no kicks, are no longer costed as heated runs (1.3-1.7 times too high). Larger n
 // cost more per event (cache misses) in the same proportion as ns_per_dsmc_event.
 constexpr double kNsCandidate = 14.6, kNsCollision = 7.3, kNsKickMaxwell = 7.8, kNsKick = 11.4;
+// A kick of drag, or of shear with noise (the exact propagator: an exp, an expm1, square roots) costs this much
+// more than a white-noise kick: drag with noise against white noise alone, lambda = 0, 128 x 2000
+// particles, 2.05e7 kicks each, one thread: 1.20 s against 0.425 s (two runs each).
+constexpr double kNsFlightKickExtra = 38.0;
 // Under the Gaussian thermostat a real collision also updates the energy and the scale: 6.5 ns
 // more (one species), 10 more (the general gas); the general gas draws a pair's class by a
 // linear search, 3 ns per candidate and class beyond the first (measured as above, lambda = 0).
@@ -235,6 +240,10 @@ DsmcEvents dsmc_events(const DsmcConfig& d) {
   const bool pairwise = d.majorant == MajorantKind::kPairwise;
   const double observations = static_cast<double>(d.observations());
   const double steps = split ? static_cast<double>(d.steps) : 0.0;
+  // Drag and shear (physics/flight/): kicks like white noise, and (lambda > 0, no Gaussian
+  // thermostat) a temperature that follows the second-moment tensor below.
+  const LinearFlight flight = d.flight_of(0);
+  const bool flies = d.linear_flight();
   // dT/dt = heat - B T^(1 + lambda/2): white noise heats by 2 beta, collisions cool (the moment
   // equation of a Maxwellian); the Gaussian thermostat holds T at T0, so both are 0 there.
   // In d dimensions B = area/(8d) <1 - u^.e> gamma C (1 - alpha^2) (n-1)/n E|u|^(2+lambda): pi/6
@@ -301,6 +310,38 @@ DsmcEvents dsmc_events(const DsmcConfig& d) {
     }
   }
   bool steady = gaussian || lambda == 0.0;  // T plays no role for the rates then
+  // With a flight: the centred second moments C, dC/dt = -nu_Pi(T) (C - T I) + (the cooling of
+  // T) I - a (E C + C E^T) - 2 gamma_d C + 2 beta I, T = tr C / d, nu_Pi = (1+alpha)(3-alpha)/8
+  // times the collision frequency of a particle: exact for lambda = 0 (the exact rate of Pi),
+  // the Maxwellian closure otherwise; the shear heats through C_xy.
+  const bool tensor = flies && !steady;
+  std::array<double, 9> Cm{};
+  for (int i = 0; i < dim; ++i)
+    for (int j = 0; j < dim; ++j)
+      Cm[3 * i + j] = d.initial_temperature_tensor.empty()
+                          ? (i == j ? T0 : 0.0)
+                          : d.initial_temperature_tensor[static_cast<std::size_t>(dim * i + j)];
+  const double pi_factor = (1.0 + d.alpha) * (3.0 - d.alpha) / 8.0;
+  auto nu_pi = [&](double T_now) { return pi_factor * 2.0 * real_rate(T_now) / n; };
+  auto dC = [&](const std::array<double, 9>& X) {
+    double tr = 0.0;
+    for (int i = 0; i < dim; ++i) tr += X[4 * i];
+    const double T_now = std::max(tr / dim, 1e-300);
+    const double relax = nu_pi(T_now), cool = B_at(T_now) * std::pow(T_now, 1.0 + p);
+    std::array<double, 9> r{};
+    for (int i = 0; i < dim; ++i)
+      for (int j = 0; j < dim; ++j) {
+        double x = -relax * (X[3 * i + j] - (i == j ? T_now : 0.0)) - 2.0 * flight.gamma * X[3 * i + j];
+        if (i == j) x += heat - cool;
+        if (i == 0) x -= flight.shear * X[3 + j];
+        if (j == 0) x -= flight.shear * X[3 * i + 1];
+        r[3 * i + j] = x;
+      }
+    return r;
+  };
+  // No-splitting shear: the majorant of a window allows for the growth of a speed in it.
+  const double window_growth =
+      flight.shear != 0.0 && !split ? flight::Shear::growth(0.45) : 1.0;
   if (!std::isfinite(A * (constant_law ? B : B1) * heat * T0 * d.t_end * u0 + 1.0)) {  // cannot be integrated
     e.collisions = e.candidates = NAN;
     return e;
@@ -312,7 +353,7 @@ DsmcEvents dsmc_events(const DsmcConfig& d) {
       e.candidates += h * candidate_rate(T, u_max);
       break;
     }
-    if (!steady && std::isfinite(T_star) && std::fabs(T - T_star) <= 1e-6 * T_star) {
+    if (!steady && !tensor && std::isfinite(T_star) && std::fabs(T - T_star) <= 1e-6 * T_star) {
       steady = true;
       T = T_star;
     }
@@ -320,6 +361,11 @@ DsmcEvents dsmc_events(const DsmcConfig& d) {
       const double rate = std::fabs(dT(T)), relax = B_at(T) * (1.0 + p) * std::pow(T, p);
       if (rate > 0.0) h = std::min(h, 0.05 * T / rate);
       if (relax > 0.0) h = std::min(h, 0.05 / relax);
+      if (tensor) {
+        h = std::min(h, 0.05 / std::max(nu_pi(T), 1e-300));
+        if (flight.shear != 0.0) h = std::min(h, 0.05 / std::fabs(flight.shear));
+        if (flight.gamma > 0.0) h = std::min(h, 0.05 / flight.gamma);
+      }
     }
     if (tracks_max) {  // U_max grows like sqrt(log(seen)): steps of a growing fraction of t
       const double seen_rate = 2.0 * real_rate(T);
@@ -327,7 +373,19 @@ DsmcEvents dsmc_events(const DsmcConfig& d) {
     }
     if (!(h > 0.0) || t + h == t) h = d.t_end - t;  // no progress left in double precision
     const double r0 = real_rate(T), c0 = candidate_rate(T, u_max);
-    if (!steady) {
+    if (tensor) {
+      auto add = [](const std::array<double, 9>& a, double f, const std::array<double, 9>& b) {
+        std::array<double, 9> r;
+        for (int k = 0; k < 9; ++k) r[k] = a[k] + f * b[k];
+        return r;
+      };
+      const auto k1 = dC(Cm), k2 = dC(add(Cm, 0.5 * h, k1)), k3 = dC(add(Cm, 0.5 * h, k2)),
+                 k4 = dC(add(Cm, h, k3));
+      for (int k = 0; k < 9; ++k) Cm[k] += h / 6.0 * (k1[k] + 2 * k2[k] + 2 * k3[k] + k4[k]);
+      double tr = 0.0;
+      for (int i = 0; i < dim; ++i) tr += Cm[4 * i];
+      T = std::max(tr / dim, 1e-300);
+    } else if (!steady) {
       const double k1 = dT(T), k2 = dT(T + 0.5 * h * k1), k3 = dT(T + 0.5 * h * k2),
                    k4 = dT(T + h * k3);
       T = std::max(T + h / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4), 1e-300);
@@ -338,14 +396,16 @@ DsmcEvents dsmc_events(const DsmcConfig& d) {
     // U_max follows the largest |v - V| the update has seen, Maxwellian at the highest
     // temperature reached so far.
     if (tracks_max)
-      u_max = std::max(u_max, factor * std::sqrt(T_peak) * chi_expected_max(seen(t), dim));
+      u_max = std::max(u_max, window_growth * factor * std::sqrt(T_peak) *
+                                  chi_expected_max(seen(t), dim));
     e.candidates += 0.5 * h * (c0 + candidate_rate(T, u_max));
     if (!std::isfinite(e.candidates)) break;
   }
   e.candidates = std::max(e.candidates, e.collisions);
-  if (heated) {
-    if (!split)  // both partners at every candidate, all at observations
-      e.kicks = 2.0 * e.candidates + n * observations;
+  if (heated || flies) {
+    if (!split)  // both partners at every candidate, all at observations (and shear windows)
+      e.kicks = 2.0 * e.candidates + n * observations +
+                (flight.shear != 0.0 ? n * std::floor(d.t_end * std::fabs(flight.shear) / 0.45) : 0.0);
     else
       e.kicks = n * steps;
   }
@@ -837,7 +897,7 @@ DsmcEvents gas_events(const DsmcConfig& d) {
 void dsmc_time(const Config& config, double ensembles, DsmcEvents& e) {
   const DsmcConfig& d = config.dsmc;
   const double n = static_cast<double>(d.particles);
-  const bool heated = d.thermostat == Thermostat::kWhiteNoise && d.beta > 0.0;
+  const bool heated = (d.thermostat == Thermostat::kWhiteNoise && d.beta > 0.0) || d.linear_flight();
   const bool gaussian = d.thermostat == Thermostat::kGaussian;
   const bool split = d.scheme != Scheme::kNoSplit;
   const double observations = static_cast<double>(d.observations());
@@ -871,6 +931,8 @@ void dsmc_time(const Config& config, double ensembles, DsmcEvents& e) {
                                         : kNsPerParticleObserved);
   if (split) e.ns += steps * (d.scheme == Scheme::kEuler ? kNsEulerStep : kNsStrangStep);
   if (heated) e.ns += split ? e.kicks * kNsStepKick : n * observations * kNsObservationKick;
+  // Shear alone is a multiply-add (no noise, no exponential): no extra.
+  if (d.linear_flight() && (d.beta > 0.0 || d.drag_gamma() > 0.0)) e.ns += e.kicks * kNsFlightKickExtra;
   if (gaussian) e.ns += n * rows * kNsGaussianFold;
   e.serial_ns = output_ns(config, ensembles);
 }

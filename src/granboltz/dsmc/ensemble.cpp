@@ -133,15 +133,20 @@ void DsmcEnsemble::set_flight_frame() {
   // there: |v_i - v_j| <= |v_i| + |v_j| holds whatever the centre, and a drift never carries a
   // speed about 0 beyond its growth factor. Shear flow is seen from the frame of the flow: the
   // velocities are centred (zero momentum, so that the mean stays 0 under the drift).
-  if (flight_.shear != 0.0) {
-    for (auto& q : p_) q.v = q.v - v0_;
-    window_ = kShearWindow / std::abs(flight_.shear);
-    if (gaussian_)  // the scale is folded at each window's end: cooling by at most e^-1 per window
-      window_ = std::min(window_, 4.0 / (c_.kernel.area * c_.kernel.gamma * c_.kernel.C));
-    growth_ = flight::Shear::growth(kShearWindow);
-    adapt_factor2_ *= growth_ * growth_;
-  }
+  if (flight_.shear != 0.0) for (auto& q : p_) q.v = q.v - v0_;
+  set_shear_windows();
   v0_ = Vec3{};
+}
+
+void DsmcEnsemble::set_shear_windows() {
+  // Only the no-splitting loop drifts between its events; the splitting schemes fly every
+  // particle between collision steps, after which the strict majorant update is exact.
+  if (flight_.shear == 0.0 || c_.scheme != Scheme::kNoSplit) return;
+  window_ = kShearWindow / std::abs(flight_.shear);
+  if (gaussian_)  // the scale is folded at each window's end: cooling by at most e^-1 per window
+    window_ = std::min(window_, 4.0 / (c_.kernel.area * c_.kernel.gamma * c_.kernel.C));
+  growth_ = flight::Shear::growth(kShearWindow);
+  adapt_factor2_ *= growth_ * growth_;
 }
 
 void DsmcEnsemble::fly_all_to(double s) {
@@ -822,12 +827,8 @@ DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, const H5Reader& in, const s
     set_scale();
   }
   if (linear_) {
-    if (flight_.shear != 0.0) {  // the window and the majorant's growth factor, as constructed
-      window_ = kShearWindow / std::abs(flight_.shear);
-      if (gaussian_)
-        window_ = std::min(window_, 4.0 / (c_.kernel.area * c_.kernel.gamma * c_.kernel.C));
-      growth_ = flight::Shear::growth(kShearWindow);
-      adapt_factor2_ *= growth_ * growth_;
+    set_shear_windows();  // the window and the majorant's growth factor, as constructed
+    if (window_ > 0.0) {
       const auto w = in.read_uint64(g + "/flight_window");
       if (w.size() != 1 || w[0] == 0 || !(static_cast<double>(w[0]) * window_ > t_) ||
           !(static_cast<double>(w[0] - 1) * window_ <= t_))

@@ -17,12 +17,14 @@
 namespace granboltz {
 
 /// g_m(x) = int_0^1 u^m e^{-x u} du for x >= 0, m = 0, 1, 2: I_m = s^{m+1} g_m(2 gamma s). The
-/// series sum_k (-x)^k / (k! (m + k + 1)) below x = 1/2 (where the closed form cancels), the
-/// closed form above.
+/// series sum_k (-x)^k / (k! (m + k + 1)) below x = 1/2 for m = 1, 2 (where their closed forms
+/// cancel), the closed forms above; m = 0 is (1 - e^{-x})/x with expm1 everywhere.
 inline double exp_moment(int m, double x) {
+  if (x == 0.0) return 1.0 / static_cast<double>(m + 1);  // no drag
+  if (m == 0) return -std::expm1(-x) / x;                  // accurate at every x > 0
   if (x < 0.5) {
     double term = 1.0, sum = 0.0;
-    for (int k = 0; k < 24; ++k) {
+    for (int k = 0; k < 18; ++k) {  // 0.5^18/18! < 1e-21
       sum += term / static_cast<double>(m + k + 1);
       term *= -x / static_cast<double>(k + 1);
     }
@@ -30,7 +32,6 @@ inline double exp_moment(int m, double x) {
   }
   const double e = std::exp(-x);
   switch (m) {
-    case 0: return -std::expm1(-x) / x;
     case 1: return (1.0 - e * (1.0 + x)) / (x * x);
     default: return (2.0 - e * (2.0 + x * (2.0 + x))) / (x * x * x);
   }
