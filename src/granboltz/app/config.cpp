@@ -54,7 +54,13 @@ Config parse_config(const std::string& yaml_text, const std::string& origin,
       throw ConfigError(std::string(other) + ": section given but model is " + model);
   if (!s.has(section)) throw ConfigError(section + ": missing (required for model " + model + ")");
   switch (c.model) {
-    case Model::kDsmc: c.dsmc = read_dsmc(s.sub("dsmc")); break;
+    case Model::kDsmc:
+      c.dsmc = read_dsmc(s.sub("dsmc"));
+      if (c.dsmc.source && c.ensembles > c.dsmc.source->ensembles)
+        throw ConfigError("ensembles = " + std::to_string(c.ensembles) + ": must be <= the " +
+                          std::to_string(c.dsmc.source->ensembles) +
+                          " ensembles of dsmc.initial.from (ensemble e continues the source's e)");
+      break;
     case Model::kIntruder: c.intruder = read_intruder(s.sub("intruder")); break;
     case Model::kNeedle: c.needle = read_needle(s.sub("needle")); break;
   }

@@ -115,12 +115,6 @@ bool load_checkpoint(const std::string& path, const Config& config, Record& reco
 
 }  // namespace
 
-std::uint64_t text_hash(const std::string& text) {
-  std::uint64_t h = 1469598103934665603ull;
-  for (const unsigned char c : text) h = (h ^ c) * 1099511628211ull;
-  return h;
-}
-
 std::uint64_t estimate_memory(const Config& config, unsigned threads) {
   const double t = threads;
   double bytes = 64.0 * 1024 * 1024;  // program, libraries, HDF5 buffers

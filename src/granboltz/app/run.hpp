@@ -3,6 +3,8 @@
 #include <cstdint>
 #include <string>
 
+#include "granboltz/core/text_hash.hpp"
+
 #include "granboltz/app/config.hpp"
 #include "granboltz/exec/ensemble_pool.hpp"
 
@@ -18,8 +20,5 @@ std::uint64_t available_memory();
 /// `command` is recorded as provenance. Throws ConfigError for a run that cannot fit in memory.
 void run_to_file(const Config& config, const std::string& path, const DriverOptions& options,
                  const std::string& command);
-
-/// A 64-bit hash of a text (FNV-1a), as stored in checkpoints for their config.
-std::uint64_t text_hash(const std::string& text);
 
 }  // namespace granboltz

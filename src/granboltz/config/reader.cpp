@@ -569,6 +569,17 @@ std::string Section::identifier(const std::string& key) const {
   return n.Scalar();
 }
 
+std::string Section::path(const std::string& key) const {
+  const YAML::Node n = at(key, "a file path", false);
+  bool ok = n.IsScalar() && !n.Scalar().empty() && n.Scalar().size() <= 4096;
+  if (ok)
+    for (const char c : n.Scalar()) ok = ok && c != '\0' && c != '\n' && c != '\r';
+  if (!ok)
+    throw ConfigError(name(key) + " = " + shown(n) +
+                      ": must be a file path of 1 to 4096 characters on one line");
+  return n.Scalar();
+}
+
 std::vector<std::string> Section::keys() const {
   std::vector<std::string> out;
   for (const auto& kv : node_)

@@ -79,6 +79,8 @@ class Section {
   std::vector<double> vector(const std::string& key, std::size_t size) const;
   /// A required plain text of 1..64 characters from [A-Za-z0-9_-] (a name used in output paths).
   std::string identifier(const std::string& key) const;
+  /// A required file path: a non-empty text of at most 4096 bytes without NUL or line breaks.
+  std::string path(const std::string& key) const;
   /// The keys written in this section, in order.
   std::vector<std::string> keys() const;
 

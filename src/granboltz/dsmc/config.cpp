@@ -10,6 +10,9 @@
 #include <vector>
 
 #include "granboltz/config/reader.hpp"
+#include "granboltz/core/text_hash.hpp"
+#include "granboltz/h5/hdf5_io.hpp"
+#include "granboltz/h5/verify.hpp"
 #include "granboltz/dsmc/config.hpp"
 #include "granboltz/dsmc/initial_state.hpp"
 
@@ -270,6 +273,83 @@ void read_flight(const Section& s, const DsmcConfig& c, F, FlightParam& p) {
   }
   f.finish({F::kKey});
 }
+// dsmc.initial.from: the source output's stored config, read and checked against this run's.
+// A source may itself continue another; the chain is bounded so that a cycle of files (one
+// rewritten to name another that names it) is refused instead of recursing without end.
+thread_local int source_depth = 0;
+constexpr int kMaxSourceDepth = 8;
+
+void read_initial_from(const Section& init, DsmcConfig& c) {
+  const std::string key = init.name("from");
+  c.initial_from = init.path("from");
+  auto refuse = [&](const std::string& why) {
+    std::string shown = c.initial_from.size() > 80 ? c.initial_from.substr(0, 77) + "..." : c.initial_from;
+    throw ConfigError(key + " = " + shown + ": " + why);
+  };
+  if (!c.initial_temperature_tensor.empty() || !c.initial_heat_flux.empty() ||
+      c.rotational_temperature_written)
+    refuse("the state comes from the source; give no temperature tensor, heat_flux or "
+           "rotational_temperature with it (a number for temperature is the Gaussian "
+           "thermostat's T0)");
+  if (source_depth >= kMaxSourceDepth)
+    refuse("a chain of more than 8 runs continued from one another (a cycle of files?)");
+  if (const FileCheck check = check_file(c.initial_from); !check.problems.empty())
+    refuse(check.problems.front());
+  std::string text;
+  try {
+    const H5Reader in(c.initial_from);
+    if (!in.has_attr("/provenance", "run_config"))
+      refuse("not a granboltz output (no /provenance run_config)");
+    text = in.attr_string("/provenance", "run_config");
+  } catch (const ConfigError&) {
+    throw;
+  } catch (const std::exception& e) {
+    refuse(std::string("cannot be read: ") + e.what());
+  }
+  c.initial_from_hash = text_hash(text);
+  if (init.has("from_hash")) {
+    const std::string want = init.identifier("from_hash");
+    char have[17];
+    std::snprintf(have, sizeof have, "%016llx", static_cast<unsigned long long>(c.initial_from_hash));
+    if (want != have)
+      refuse("its stored config has changed since this run was configured (from_hash " + want +
+             ", now " + have + ")");
+  }
+  auto source = std::make_shared<SourceRun>();
+  struct Depth {
+    Depth() { ++source_depth; }
+    ~Depth() { --source_depth; }
+  };
+  try {
+    const Depth depth;
+    const YAML::Node root = load_yaml_with_overrides(text, c.initial_from, {});
+    const Section top(root, "");
+    if (top.choice("model", {"dsmc", "intruder", "needle"}) != "dsmc")
+      refuse("not the output of a dsmc run");
+    source->seed = top.integer("seed");
+    source->ensembles = top.integer("ensembles", 1);
+    source->dsmc = read_dsmc(top.sub("dsmc"));
+  } catch (const ConfigError& e) {
+    if (std::string(e.what()).rfind(key, 0) == 0) throw;
+    refuse(std::string("its stored config is not valid here: ") + e.what());
+  }
+  const DsmcConfig& src = source->dsmc;
+  if (src.particles != c.particles)
+    refuse("its runs have " + std::to_string(src.particles) + " particles, this one " +
+           std::to_string(c.particles) + " (dsmc.particles must be the same)");
+  if (src.dimension != c.dimension) refuse("its runs are in another dimension (dsmc.dimension)");
+  if (src.weights.swpm || c.weights.swpm)
+    refuse("weighted particles (dsmc.weights) cannot continue or be continued yet");
+  if (src.general() != c.general() || src.species.size() != c.species.size())
+    refuse("its species differ from this run's (dsmc.species: the same names and counts)");
+  for (std::size_t a = 0; a < c.species.size(); ++a)
+    if (src.species[a].name != c.species[a].name || src.species[a].count != c.species[a].count)
+      refuse("its species differ from this run's (dsmc.species: the same names and counts)");
+  if (c.roughness.on && !src.roughness.on)
+    refuse("its particles do not rotate, this run's are rough (dsmc.roughness)");
+  c.source = std::move(source);
+}
+
 // Where a free flight cannot run exactly, one line naming its key.
 void check_flights(const Section& s, const DsmcConfig& c) {
   const bool drag = s.has("drag"), shear = s.has("shear");
@@ -432,7 +512,8 @@ DsmcConfig read_dsmc(const Section& s) {
                         (c.dimension == 3 ? "0.2006" : "0.3010") +
                         " T0^{3/2}) for the skewed state's density to stay positive");
   }
-  init.finish({"temperature", "rotational_temperature", "heat_flux"});
+  if (init.has("from")) read_initial_from(init, c);
+  init.finish({"temperature", "rotational_temperature", "heat_flux", "from", "from_hash"});
 
   c.t_end = s.real("t_end");
   s.check(c.t_end > 0, "t_end", c.t_end, "must be > 0");
@@ -698,6 +779,12 @@ void emit_dsmc(YAML::Emitter& out, const DsmcConfig& c) {
     out << YAML::Key << "heat_flux" << YAML::Value << YAML::Flow << YAML::BeginSeq;
     for (const double q : c.initial_heat_flux) out << format_real(q);
     out << YAML::EndSeq;
+  }
+  if (!c.initial_from.empty()) {
+    char hash[17];
+    std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(c.initial_from_hash));
+    out << YAML::Key << "from" << YAML::Value << YAML::DoubleQuoted << c.initial_from;
+    out << YAML::Key << "from_hash" << YAML::Value << YAML::DoubleQuoted << hash;
   }
   out << YAML::EndMap;
   out << YAML::Key << "t_end" << YAML::Value << format_real(c.t_end);

@@ -3,6 +3,7 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -109,6 +110,8 @@ struct FlightParam {
 /// The most species dsmc.species may list.
 inline constexpr std::size_t kMaxSpecies = 16;
 
+struct SourceRun;
+
 struct DsmcConfig {
   std::uint64_t particles = 0;  ///< n
   int dimension = 3;            ///< d: velocities in R^d (2: z = 0)
@@ -161,6 +164,13 @@ struct DsmcConfig {
   RoughnessSpec roughness;
   double initial_rotational_temperature = 1.0;  ///< T_rot(0) (rough), default the temperature
   bool rotational_temperature_written = false;
+  /// dsmc.initial.from: an earlier output whose final state starts every ensemble (ensemble e
+  /// takes the source's ensemble e at its t_end, re-simulated from the source's stored config
+  /// and seed: dsmc/initial_from.hpp); empty: none. initial_from_hash is the text_hash of the
+  /// source's stored config, written into this run's config and checked when it is read again.
+  std::string initial_from;
+  std::uint64_t initial_from_hash = 0;
+  std::shared_ptr<const SourceRun> source;
 
   /// The general gas engine (dsmc/gas.hpp) runs it: mixtures or rough particles.
   bool general() const { return species_written || roughness.on; }
@@ -179,6 +189,13 @@ struct DsmcConfig {
 
   std::uint64_t observations() const;  ///< M: observation times are t_m, m = 0..M
   double time_step() const { return t_end / static_cast<double>(steps); }
+};
+
+/// The run named by dsmc.initial.from, as its output's stored config describes it.
+struct SourceRun {
+  std::uint64_t seed = 0;
+  std::uint64_t ensembles = 0;
+  DsmcConfig dsmc;
 };
 
 DsmcConfig read_dsmc(const Section& s);

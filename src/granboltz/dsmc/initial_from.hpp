@@ -1,0 +1,30 @@
+#pragma once
+// dsmc.initial.from: the final state of an earlier run, as the start of a new one. The source
+// is not stored particle by particle: its ensemble e is simulated again from its stored config
+// and seed to its t_end (bit for bit the state its output observed last), so a continued run is
+// determined by its config, its seed and the source's config, whatever the threads or shards.
+#include <cstdint>
+#include <vector>
+
+#include "granboltz/core/vec3.hpp"
+#include "granboltz/dsmc/config.hpp"
+
+namespace granboltz {
+
+struct SourceState {
+  std::vector<Vec3> velocities;
+  std::vector<Vec3> spins;  ///< rough particles; empty otherwise
+};
+
+/// The state of the source's ensemble `ensemble` at its t_end (d.source must be set).
+SourceState source_state(const DsmcConfig& d, std::uint64_t ensemble);
+
+class DsmcEnsemble;
+class GasEnsemble;
+/// Replaces the start of a freshly made engine of `d` (ensemble `ensemble`) by the source's final
+/// state, when d has a source: the velocities (and spins of rough particles) at time 0, with
+/// the majorant and the Gaussian thermostat's scale taken anew as for any set state.
+void apply_source(const DsmcConfig& d, std::uint64_t ensemble, DsmcEnsemble& engine);
+void apply_source(const DsmcConfig& d, std::uint64_t ensemble, GasEnsemble& engine);
+
+}  // namespace granboltz
