@@ -16,6 +16,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <span>
 #include <string>
 #include <thread>
 #include <vector>
@@ -25,12 +26,9 @@
 #include "granboltz/app/run.hpp"
 #include "granboltz/config/reader.hpp"
 #include "granboltz/core/gsl_errors.hpp"
-#include "granboltz/dsmc/ensemble.hpp"
-#include "granboltz/dsmc/gas.hpp"
-#include "granboltz/dsmc/gas_observables.hpp"
+#include "granboltz/dsmc/engine.hpp"
 #include "granboltz/dsmc/observables.hpp"
 #include "granboltz/dsmc/run.hpp"
-#include "granboltz/dsmc/weighted.hpp"
 #include "granboltz/exec/ensemble_pool.hpp"
 #include "granboltz/h5/hdf5_io.hpp"
 #include "granboltz/h5/verify.hpp"
@@ -268,9 +266,7 @@ class Simulation {
     check_model();
     check_memory(*config_);
     const DsmcConfig& d = config_->dsmc;
-    if (d.weights.swpm) weighted_ = std::make_unique<WeightedEnsemble>(d, config_->seed, ensemble);
-    else if (d.general()) gas_ = std::make_unique<GasEnsemble>(d, config_->seed, ensemble);
-    else plain_ = std::make_unique<DsmcEnsemble>(d, config_->seed, ensemble);
+    engine_ = make_ensemble(d, config_->seed, ensemble);
   }
 
   /// Reads a state written by save(), trusted only as far as it is checked, as a checkpoint is
@@ -313,9 +309,7 @@ class Simulation {
       }
       check_memory(*s->config_);
       const DsmcConfig& d = s->config_->dsmc;
-      if (d.weights.swpm) s->weighted_ = std::make_unique<WeightedEnsemble>(d, in, "/state");
-      else if (d.general()) s->gas_ = std::make_unique<GasEnsemble>(d, in, "/state");
-      else s->plain_ = std::make_unique<DsmcEnsemble>(d, in, "/state");
+      s->engine_ = restore_ensemble(d, in, "/state");
       if (digest_only || in.attr_uint64("/", "digest") != in.digest())
         throw StateError(path + ": the datasets do not match the digest it was saved with "
                                 "(edited or damaged)");
@@ -341,9 +335,7 @@ class Simulation {
     out.attr("/", "config", text);
     out.attr("/", "config_hash", text_hash(text));
     out.attr("/", "ensemble", ensemble_);
-    if (weighted_) weighted_->save(out, "/state");
-    else if (gas_) gas_->save(out, "/state");
-    else plain_->save(out, "/state");
+    engine_->save(out, "/state");
     out.attr("/", "digest", out.digest());
     out.commit();
   }
@@ -373,9 +365,7 @@ class Simulation {
       py::gil_scoped_release release;
       SigintGuard guard(interruptible);
       const std::atomic<bool>* pause = &g_interrupted;
-      reached = weighted_ ? weighted_->advance_to(t, pause)
-                : gas_    ? gas_->advance_to(t, pause)
-                          : plain_->advance_to(t, pause);
+      reached = engine_->advance_to(t, pause);
       reached = reached && !g_interrupted.load();
     }
     return reached;
@@ -393,15 +383,13 @@ class Simulation {
   int dimension() const { return config_->dsmc.dimension; }
   std::uint64_t ensemble() const { return ensemble_; }
   std::string config_text() const { return config_->to_yaml(false); }
-  std::string engine() const { return weighted_ ? "weighted" : gas_ ? "gas" : "dsmc"; }
+  std::string engine() const { return engine_->engine(); }
 
-  const Particles& particles() const {
-    return weighted_ ? weighted_->particles() : gas_ ? gas_->particles() : plain_->particles();
-  }
+  std::span<const Particle> particles() const { return engine_->view().particles; }
 
   py::array_t<double> velocities() const {
     Use use(*this, "velocities");
-    const Particles& p = particles();
+    const std::span<const Particle> p = particles();
     const auto n = static_cast<py::ssize_t>(p.size());
     const int d = dimension();
     py::array_t<double> out({n, static_cast<py::ssize_t>(d)});
@@ -427,15 +415,13 @@ class Simulation {
                             std::to_string(n) + ", " + std::to_string(d) +
                             ") (particles, dimension)");
     const std::vector<Vec3> rows = state_rows(v, n, d, "set_velocities", "velocities");
-    if (weighted_) weighted_->set_velocities(rows);
-    else if (gas_) gas_->set_state(rows, {});
-    else plain_->set_velocities(rows);
+    engine_->set_velocities(rows);
   }
 
   /// Simulation.set_spins (rough particles): (n, 3) in d = 3, (n,) (the z component) in d = 2.
   void set_spins(const py::array_t<double, py::array::c_style | py::array::forcecast>& w) {
     Use use(*this, "set_spins");
-    if (!gas_ || !config_->dsmc.roughness.on)
+    if (!config_->dsmc.roughness.on)
       throw py::value_error("set_spins: only rough particles (dsmc.roughness) have spins");
     const std::size_t n = particles().size();
     const int d = dimension();
@@ -446,13 +432,13 @@ class Simulation {
       throw py::value_error("set_spins: spins has shape " + shape_text(w) + ", not " +
                             (d == 3 ? "(" + std::to_string(n) + ", 3)"
                                     : "(" + std::to_string(n) + ",) (the z component in d = 2)"));
-    gas_->set_state({}, state_rows(w, n, d == 3 ? 3 : 1, "set_spins", "spins"));
+    engine_->set_spins(state_rows(w, n, d == 3 ? 3 : 1, "set_spins", "spins"));
   }
 
   py::object spins() const {
     Use use(*this, "spins");
-    if (!gas_ || !config_->dsmc.roughness.on) return py::none();
-    const auto& w = gas_->spins();
+    const std::span<const Vec3> w = engine_->view().spins;
+    if (w.empty()) return py::none();
     const auto n = static_cast<py::ssize_t>(w.size());
     if (dimension() == 2) {
       py::array_t<double> out(n);
@@ -471,8 +457,8 @@ class Simulation {
 
   py::object weights() const {
     Use use(*this, "weights");
-    if (!weighted_) return py::none();
-    const auto& g = weighted_->weights();
+    if (!engine_->weighted()) return py::none();
+    const std::span<const double> g = engine_->view().weights;
     py::array_t<double> out(static_cast<py::ssize_t>(g.size()));
     std::copy(g.begin(), g.end(), out.mutable_data());
     return out;
@@ -480,15 +466,12 @@ class Simulation {
 
   py::dict counts() const {
     Use use(*this, "counts");
-    const EventCounts& c = weighted_ ? weighted_->counts() : gas_ ? gas_->counts() : plain_->counts();
+    const EventCounts& c = engine_->counts();
     py::dict out;
     out["collisions"] = c.collisions;
     out["fictitious"] = c.fictitious;
     out["kicks"] = c.kicks;
-    if (weighted_) {
-      out["reductions"] = weighted_->reductions();
-      out["split_sweeps"] = weighted_->split_sweeps();
-    }
+    for (const auto& [name, count] : engine_->extra_counts()) out[py::str(name)] = count;
     return out;
   }
 
@@ -499,25 +482,20 @@ class Simulation {
     const DsmcConfig& d = config_->dsmc;
     const auto P = static_cast<std::size_t>(d.moments);
     std::vector<double> moments(P, 0.0);
-    Observation obs{};
     py::list rows;
-    if (weighted_) {
-      obs = measure_weighted(weighted_->particles(), weighted_->weights(), moments, d.dimension);
-    } else if (gas_) {
-      const std::vector<RowSet> sets = extra_row_sets(d);
-      std::vector<std::vector<double>> xo, xm;
-      std::vector<double*> po, pm;
-      for (const RowSet& x : sets) {
-        xo.emplace_back(x.width, 0.0);
-        xm.emplace_back(x.P, 0.0);
-      }
-      for (std::size_t k = 0; k < sets.size(); ++k) po.push_back(xo[k].data()), pm.push_back(xm[k].data());
-      obs = measure_gas(d, gas_->particles(), gas_->spins(), moments, po, pm);
-      for (std::size_t k = 0; k < sets.size(); ++k)
-        rows.append(py::make_tuple(sets[k].group, xo[k], xm[k]));
-    } else {
-      obs = measure(plain_->particles(), moments, d.dimension);
+    const std::vector<RowSet> sets = extra_row_sets(d);
+    std::vector<std::vector<double>> xo, xm;
+    RowTargets row;
+    row.moments = moments;
+    for (const RowSet& x : sets) {
+      xo.emplace_back(x.width, 0.0);
+      xm.emplace_back(x.P, 0.0);
     }
+    for (std::size_t k = 0; k < sets.size(); ++k)
+      row.rows.push_back(xo[k].data()), row.row_moments.push_back(xm[k].data());
+    const Observation obs = engine_->observe(d, row);
+    for (std::size_t k = 0; k < sets.size(); ++k)
+      rows.append(py::make_tuple(sets[k].group, xo[k], xm[k]));
     py::dict out;
     out["scalars"] = std::vector<double>(obs.begin(), obs.end());
     out["moments"] = moments;
@@ -550,7 +528,7 @@ class Simulation {
   mutable std::atomic<const char*> user_{nullptr};
 
   double now() const {
-    return weighted_ ? weighted_->time() : gas_ ? gas_->time() : plain_->time();
+    return engine_->time();
   }
 
   void check_model() const {
@@ -574,9 +552,7 @@ class Simulation {
 
   std::unique_ptr<Config> config_;  // on the heap: the engines keep a reference to its dsmc
   std::uint64_t ensemble_ = 0;
-  std::unique_ptr<DsmcEnsemble> plain_;
-  std::unique_ptr<WeightedEnsemble> weighted_;
-  std::unique_ptr<GasEnsemble> gas_;
+  std::unique_ptr<Ensemble> engine_;  // make_ensemble's choice for the config
 };
 
 }  // namespace

@@ -14,6 +14,7 @@
 #include <new>
 #include <stdexcept>
 #include <map>
+#include <memory>
 #include <string>
 #include <tuple>
 #include <utility>
@@ -29,7 +30,7 @@
 #include "granboltz/app/run.hpp"
 #include "granboltz/dsmc/observables.hpp"
 #include "granboltz/dsmc/run.hpp"
-#include "granboltz/dsmc/weighted.hpp"
+#include "granboltz/dsmc/engine.hpp"
 #include "granboltz/physics/pair_collision.hpp"
 #include "granboltz/random/rng.hpp"
 #include "granboltz/random/samplers.hpp"
@@ -985,7 +986,8 @@ void run_pilot(const DsmcConfig& d, std::uint64_t seed, Emit&& emit) {
     return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
   };
   const double start = cpu_seconds();
-  WeightedEnsemble pilot(d, seed, 0);
+  const std::unique_ptr<Ensemble> engine = make_ensemble(d, seed, 0);  // the weighted engine
+  Ensemble& pilot = *engine;
   const bool heated = d.thermostat == Thermostat::kWhiteNoise && d.beta > 0.0;
   const std::vector<double> times = dsmc_times(d);
   double stop_kicks = 0.0, observation_kicks = 0.0, observed = 0.0, candidates = 0.0;
@@ -995,7 +997,7 @@ void run_pilot(const DsmcConfig& d, std::uint64_t seed, Emit&& emit) {
     emit(PilotMark{t, candidates, static_cast<double>(c.collisions),
                    static_cast<double>(c.kicks) - stop_kicks,
                    cpu_seconds() - start, observed,
-                   observation_kicks, static_cast<double>(pilot.particles().size())});
+                   observation_kicks, static_cast<double>(pilot.view().particles.size())});
   };
   mark(0.0);
   for (std::size_t m = 1; m < times.size() && candidates < kPilotCandidates; ++m) {
@@ -1004,7 +1006,7 @@ void run_pilot(const DsmcConfig& d, std::uint64_t seed, Emit&& emit) {
     for (double k = 1.0; k <= pieces && candidates < kPilotCandidates; ++k) {
       const double s = k == pieces ? to : from + (to - from) * k / pieces;
       pilot.advance_to(s);
-      const double n = static_cast<double>(pilot.particles().size());
+      const double n = static_cast<double>(pilot.view().particles.size());
       if (heated) stop_kicks += n;  // kick_all_to(s) at the end of advance_to
       if (k == pieces) {  // an observation of the run
         ++observed;

@@ -8,11 +8,8 @@
 #include <stdexcept>
 
 #include "granboltz/config/reader.hpp"
-#include "granboltz/dsmc/ensemble.hpp"
-#include "granboltz/dsmc/gas.hpp"
-#include "granboltz/dsmc/gas_observables.hpp"
+#include "granboltz/dsmc/engine.hpp"
 #include "granboltz/dsmc/observables.hpp"
-#include "granboltz/dsmc/weighted.hpp"
 #include "granboltz/exec/safe_points.hpp"
 #include "granboltz/stats/blocking.hpp"
 #include "granboltz/stats/delta_method.hpp"
@@ -180,16 +177,14 @@ namespace {
 
 /// An ensemble under way: the particle system and what has been observed so far.
 struct InProgress {
-  std::unique_ptr<DsmcEnsemble> ensemble;
-  std::unique_ptr<WeightedEnsemble> weighted;  // dsmc.weights: swpm (then `ensemble` is empty)
-  std::unique_ptr<GasEnsemble> gas;            // mixtures, rough particles (dsmc/gas.hpp)
+  std::unique_ptr<Ensemble> ensemble;
   std::uint64_t next = 0;              // the next observation index m
   std::vector<Observation> obs;        // [rows]
   std::vector<double> moments;         // [rows * P]: <|v - V|^{2p}>, p = 1..P
   std::vector<std::uint64_t> hist;     // [rows * K1]: particles per shell
-  std::vector<double> whist;           // swpm: [rows * K1] weight per shell
+  std::vector<double> whist;           // weighted: [rows * K1] weight per shell
   std::vector<std::uint64_t> comp;     // histogram.component: [rows * K1] particles per bin
-  std::vector<double> wcomp;           // swpm and histogram.component: [rows * K1] weight per bin
+  std::vector<double> wcomp;           // weighted, histogram.component: [rows * K1] weight per bin
   // The general gas: for each of extra_row_sets(), [rows * width] scalars and [rows * P] moments.
   std::vector<std::vector<double>> xobs, xmoments;
 };
@@ -213,14 +208,10 @@ std::string in_progress_group(std::uint64_t e) { return "/in_progress/" + std::t
 
 void save_in_progress(H5Writer& out, std::uint64_t e, const InProgress& w) {
   const std::string g = in_progress_group(e);
-  if (w.weighted) {
-    w.weighted->save(out, g);
+  w.ensemble->save(out, g);
+  if (w.ensemble->weighted()) {
     out.write(g + "/histogram_weight", w.whist, {w.whist.size()});
     if (!w.wcomp.empty()) out.write(g + "/histogram_component_weight", w.wcomp, {w.wcomp.size()});
-  } else if (w.gas) {
-    w.gas->save(out, g);
-  } else {
-    w.ensemble->save(out, g);
   }
   for (std::size_t k = 0; k < w.xobs.size(); ++k) {
     const std::string x = g + "/row_set_" + std::to_string(k);
@@ -253,15 +244,11 @@ InProgress load_in_progress(const DsmcConfig& d, const H5Reader& in, std::uint64
                             std::uint64_t rows, std::uint64_t K1, ProgressSlot* slot) {
   const std::string g = in_progress_group(e);
   InProgress w;
-  if (d.weights.swpm) {
-    w.weighted = std::make_unique<WeightedEnsemble>(d, in, g, slot);
+  w.ensemble = restore_ensemble(d, in, g, slot);
+  if (w.ensemble->weighted()) {
     w.whist = in.read_double(g + "/histogram_weight");
     if (w.whist.size() != rows * K1)
       throw std::runtime_error(in.path() + ": malformed ensemble state " + g);
-  } else if (d.general()) {
-    w.gas = std::make_unique<GasEnsemble>(d, in, g, slot);
-  } else {
-    w.ensemble = std::make_unique<DsmcEnsemble>(d, in, g, slot);
   }
   w.next = in.attr_uint64(g, "next_observation");
   const auto obs = in.read_double(g + "/observations");
@@ -301,8 +288,9 @@ InProgress load_in_progress(const DsmcConfig& d, const H5Reader& in, std::uint64
   }
   if (K1 && d.histogram.component) {
     w.comp = in.read_uint64(g + "/histogram_component");
-    if (w.weighted) w.wcomp = in.read_double(g + "/histogram_component_weight");
-    if (w.comp.size() != rows * K1 || (w.weighted && w.wcomp.size() != rows * K1))
+    const bool weighted = w.ensemble->weighted();
+    if (weighted) w.wcomp = in.read_double(g + "/histogram_component_weight");
+    if (w.comp.size() != rows * K1 || (weighted && w.wcomp.size() != rows * K1))
       throw std::runtime_error(in.path() + ": malformed ensemble state " + g);
   }
   return w;
@@ -441,14 +429,8 @@ void run_dsmc(const DsmcRunConfig& config, const DriverOptions& options, Record&
       std::lock_guard<std::mutex> lock(safe.mutex());  // HDF5 (serial build) is not thread-safe
       w = load_in_progress(d, *checkpoint, e, rows, K1, &slot);
     } else {
-      if (d.weights.swpm) {
-        w.weighted = std::make_unique<WeightedEnsemble>(d, config.seed, e, &slot);
-        w.whist.assign(rows * K1, 0.0);
-      } else if (d.general()) {
-        w.gas = std::make_unique<GasEnsemble>(d, config.seed, e, &slot);
-      } else {
-        w.ensemble = std::make_unique<DsmcEnsemble>(d, config.seed, e, &slot);
-      }
+      w.ensemble = make_ensemble(d, config.seed, e, &slot);
+      if (w.ensemble->weighted()) w.whist.assign(rows * K1, 0.0);
       for (const RowSet& x : extra_row_sets(d)) {
         w.xobs.emplace_back(rows * x.width, 0.0);
         w.xmoments.emplace_back(rows * x.P, 0.0);
@@ -458,48 +440,32 @@ void run_dsmc(const DsmcRunConfig& config, const DriverOptions& options, Record&
       w.hist.assign(rows * K1, 0);
       if (K1 && d.histogram.component) {
         w.comp.assign(rows * K1, 0);
-        if (w.weighted) w.wcomp.assign(rows * K1, 0.0);
+        if (w.ensemble->weighted()) w.wcomp.assign(rows * K1, 0.0);
       }
     }
-    auto advance = [&](double s) {
-      return w.weighted ? w.weighted->advance_to(s, safe.pause_flag())
-             : w.gas    ? w.gas->advance_to(s, safe.pause_flag())
-                        : w.ensemble->advance_to(s, safe.pause_flag());
-    };
+    Ensemble& ens = *w.ensemble;
     for (; w.next < rows; ++w.next) {
       const std::uint64_t m = w.next;
       if (m > 0)
-        while (!advance(times[m])) safe.park(e, &w);
-      if (w.weighted) {
-        const WeightedEnsemble& we = *w.weighted;
-        w.obs[m] = measure_weighted(we.particles(), we.weights(), {w.moments.data() + m * P, P},
-                                    d.dimension);
-        const Vec3 V{w.obs[m][1], w.obs[m][2], w.obs[m][3]};
-        if (K1)
-          radial_histogram_weighted(we.particles(), we.weights(), d.histogram, V,
-                                    &w.whist[m * K1], &w.hist[m * K1]);
-        if (!w.comp.empty())
-          component_histogram_weighted(we.particles(), we.weights(), d.histogram, V,
-                                       &w.wcomp[m * K1], &w.comp[m * K1]);
-        // The cooling rate is averaged over the rows the steady observables use: from the last
-        // row outside that window on.
-        if (!(times[m] > steady_after)) w.weighted->mark_cooling();
-      } else {
-        const Particles& particles = w.gas ? w.gas->particles() : w.ensemble->particles();
-        if (w.gas) {
-          std::vector<double*> xo, xm;
-          for (std::size_t k = 0; k < w.xobs.size(); ++k) {
-            xo.push_back(w.xobs[k].data() + m * (w.xobs[k].size() / rows));
-            xm.push_back(w.xmoments[k].data() + m * (w.xmoments[k].size() / rows));
-          }
-          w.obs[m] = measure_gas(d, particles, w.gas->spins(), {w.moments.data() + m * P, P}, xo, xm);
-        } else {
-          w.obs[m] = measure(particles, {w.moments.data() + m * P, P}, d.dimension);
-        }
-        const Vec3 V{w.obs[m][1], w.obs[m][2], w.obs[m][3]};
-        if (K1) radial_histogram(particles, d.histogram, V, &w.hist[m * K1]);
-        if (!w.comp.empty()) component_histogram(particles, d.histogram, V, &w.comp[m * K1]);
+        while (!ens.advance_to(times[m], safe.pause_flag())) safe.park(e, &w);
+      RowTargets row;
+      row.moments = {w.moments.data() + m * P, P};
+      for (std::size_t k = 0; k < w.xobs.size(); ++k) {
+        row.rows.push_back(w.xobs[k].data() + m * (w.xobs[k].size() / rows));
+        row.row_moments.push_back(w.xmoments[k].data() + m * (w.xmoments[k].size() / rows));
       }
+      if (K1) {
+        row.histogram = &w.hist[m * K1];
+        if (!w.whist.empty()) row.histogram_weight = &w.whist[m * K1];
+      }
+      if (!w.comp.empty()) {
+        row.component = &w.comp[m * K1];
+        if (!w.wcomp.empty()) row.component_weight = &w.wcomp[m * K1];
+      }
+      w.obs[m] = ens.observe(d, row);
+      // An engine's own time averages (the weighted engine's cooling rate) run over the rows the
+      // steady observables use: from the last row outside that window on.
+      if (!(times[m] > steady_after)) ens.mark_window();
     }
     // Exact sums: the order in which ensembles arrive here does not matter.
     std::lock_guard<std::mutex> lock(safe.mutex());
@@ -519,6 +485,7 @@ void run_dsmc(const DsmcRunConfig& config, const DriverOptions& options, Record&
       add_ratios(d, times, rows_of, width, record);
     }
     // A histogram's per-ensemble steady average of f_k and, for SWPM, its weights per row.
+    const bool weighted = ens.weighted();
     auto add_histogram = [&](const std::string& name, const std::vector<std::uint64_t>& hist,
                              const std::vector<double>& whist) {
       record.add_counts(name, hist);
@@ -529,46 +496,24 @@ void run_dsmc(const DsmcRunConfig& config, const DriverOptions& options, Record&
           if (!(times[m] > steady_after)) continue;
           steady_rows += 1.0;
           for (std::uint64_t k = 0; k < K1; ++k)
-            avg[k] += w.weighted ? whist[m * K1 + k]
+            avg[k] += weighted ? whist[m * K1 + k]
                                  : static_cast<double>(hist[m * K1 + k]) /
                                        static_cast<double>(d.particles);
         }
         auto& hs = record.moments(name + "_steady");
         for (std::uint64_t k = 0; k < K1; ++k) hs[k].add(avg[k] / steady_rows);
       }
-      if (w.weighted) {
+      if (weighted) {
         auto& hw = record.moments(name + "_weight");
         for (std::size_t k = 0; k < whist.size(); ++k) hw[k].add(whist[k]);
       }
     };
     if (K1) add_histogram("histogram", w.hist, w.whist);
     if (!w.comp.empty()) add_histogram("histogram_component", w.comp, w.wcomp);
-    if (w.weighted) {
-      const WeightedEnsemble& we = *w.weighted;
-      const EventCounts& c = we.counts();
-      std::vector<double> columns{static_cast<double>(c.collisions), static_cast<double>(c.fictitious),
-                                  static_cast<double>(c.kicks), we.u_max(),
-                                  static_cast<double>(we.reductions()),
-                                  static_cast<double>(we.particles().size())};
-      if (d.thermostat == Thermostat::kGaussian) {
-        columns.push_back(we.mean_cooling_rate());
-        record.moments("cooling_rate")[0].add(we.mean_cooling_rate());
-      }
-      record.add_ensemble(e, columns);
-      return;
-    }
-    if (w.gas) {
-      const EventCounts& c = w.gas->counts();
-      std::vector<double> columns{static_cast<double>(c.collisions), static_cast<double>(c.fictitious),
-                                  static_cast<double>(c.kicks), w.gas->u_max()};
-      if (d.species_written)
-        for (const std::uint64_t k : w.gas->species_collisions()) columns.push_back(static_cast<double>(k));
-      record.add_ensemble(e, columns);
-      return;
-    }
-    const EventCounts& c = w.ensemble->counts();
-    record.add_ensemble(e, {static_cast<double>(c.collisions), static_cast<double>(c.fictitious),
-                            static_cast<double>(c.kicks), w.ensemble->u_max()});
+    // The cooling rate's sums are declared with the weighted engine's Gaussian column.
+    if (weighted && d.thermostat == Thermostat::kGaussian)
+      record.moments("cooling_rate")[0].add(ens.mean_cooling_rate());
+    record.add_ensemble(e, ens.event_columns());
   });
 }
 
