@@ -1368,6 +1368,15 @@ RunEstimate estimate_unchecked(const Config& config, unsigned threads, bool pilo
   const double workers = std::min<double>(e.threads, std::max(N, 1.0));
   e.seconds = ns * 1e-9 / (workers > 1 ? workers * kParallelEfficiency : 1.0) + serial_ns * 1e-9 +
               kFixedSeconds;
+  if (config.model == Model::kDsmc && config.dsmc.source) {
+    // dsmc.initial.from: each ensemble first replays the source's, on the same workers.
+    Config source = config;
+    source.seed = config.dsmc.source->seed;
+    source.dsmc = config.dsmc.source->dsmc;
+    const RunEstimate s = estimate_unchecked(source, threads, false);
+    e.collisions += s.collisions, e.fictitious += s.fictitious, e.kicks += s.kicks;
+    e.seconds += s.seconds - kFixedSeconds;
+  }
   return e;
 }
 
@@ -1399,6 +1408,13 @@ std::vector<Suspect> suspects(const Config& config) {
                  }});
     s.push_back({"dsmc.particles", static_cast<double>(d.particles),
                  [](Config& c) { c.dsmc.particles = 1000; }});
+    if (d.shear_rate() != 0.0)
+      s.push_back({"dsmc.shear.rate", d.shear_rate(), [](Config& c) { c.dsmc.flights[1].value = 1.0; }});
+    if (d.drag_gamma() != 0.0)
+      s.push_back({"dsmc.drag.gamma", d.drag_gamma(), [](Config& c) {
+                     c.dsmc.flights[0].value = 1.0;
+                     c.dsmc.flights[0].per_species.clear();
+                   }});
     if (d.scheme != Scheme::kNoSplit)
       s.push_back({"dsmc.steps", static_cast<double>(d.steps), [](Config& c) {
                      c.dsmc.steps = std::max<std::uint64_t>(1, c.dsmc.observations());

@@ -3,8 +3,10 @@
 #include <stdexcept>
 
 #include "granboltz/dsmc/gas.hpp"
+#include "granboltz/dsmc/initial_from.hpp"
 #include "granboltz/dsmc/gas_observables.hpp"
 #include "granboltz/dsmc/weighted.hpp"
+#include "granboltz/random/rng.hpp"
 
 namespace granboltz {
 
@@ -155,7 +157,15 @@ std::unique_ptr<Ensemble> make(const DsmcConfig& d, Args&&... args) {
 
 std::unique_ptr<Ensemble> make_ensemble(const DsmcConfig& config, std::uint64_t seed,
                                         std::uint64_t ensemble, ProgressSlot* progress) {
-  return make(config, seed, ensemble, progress);
+  std::unique_ptr<Ensemble> e =
+      make(config, config.source ? continued_seed(seed, config.initial_from_hash) : seed, ensemble,
+           progress);
+  if (config.source) {  // dsmc.initial.from: the source's final state replaces the drawn start
+    const SourceState s = source_state(config, ensemble);
+    e->set_velocities(s.velocities);
+    if (config.roughness.on) e->set_spins(s.spins);
+  }
+  return e;
 }
 
 std::unique_ptr<Ensemble> restore_ensemble(const DsmcConfig& config, const H5Reader& in,

@@ -19,12 +19,4 @@ struct SourceState {
 /// The state of the source's ensemble `ensemble` at its t_end (d.source must be set).
 SourceState source_state(const DsmcConfig& d, std::uint64_t ensemble);
 
-class DsmcEnsemble;
-class GasEnsemble;
-/// Replaces the start of a freshly made engine of `d` (ensemble `ensemble`) by the source's final
-/// state, when d has a source: the velocities (and spins of rough particles) at time 0, with
-/// the majorant and the Gaussian thermostat's scale taken anew as for any set state.
-void apply_source(const DsmcConfig& d, std::uint64_t ensemble, DsmcEnsemble& engine);
-void apply_source(const DsmcConfig& d, std::uint64_t ensemble, GasEnsemble& engine);
-
 }  // namespace granboltz

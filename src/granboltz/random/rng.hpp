@@ -96,4 +96,15 @@ inline Engine make_stream(std::uint64_t seed, std::uint64_t ensemble, Consumer c
   return Engine(s);
 }
 
+/// The master seed of a run continued from an earlier one (dsmc.initial.from) whose stored
+/// config hashes to `source`: its streams are then independent of the source's even when both
+/// configs give the same seed (the same seed would otherwise draw again the numbers that made
+/// the state it starts from, and correlate the new kicks with it).
+inline std::uint64_t continued_seed(std::uint64_t seed, std::uint64_t source) {
+  using Philox = r123::Philox4x64;
+  const Philox::key_type key = {{seed, source}};
+  const Philox::ctr_type ctr = {{~0ULL, 0x636f6e74696e7565ULL /* "continue" */, 0, 0}};
+  return Philox()(ctr, key)[0];
+}
+
 }  // namespace granboltz
