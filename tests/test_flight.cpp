@@ -320,3 +320,19 @@ TEST(Flight, ConfigKeysAreCheckedAndWrittenOnlyWhenGiven) {
           "dsmc.shear: not available with dsmc.weights");
   refused({"dsmc.shear.rate=1", "dsmc.species=[{name: a, fraction: 1}]"}, "dsmc.shear");
 }
+
+TEST(Flight, ShearMajorantBoundsEverySpeedOfItsWindow) {
+  // Hard spheres, no splitting: U_max >= 2 g max|v| (g = 1.25, the growth of a speed over a
+  // window) at every stop, so that no pair within the window can outrun it. Without the factor
+  // g the drift would carry relative speeds beyond U_max between stops.
+  const Config c = flow_config({3, 0.7, 2.0, 0.0, 0.0}, 500, 1, 15, 6, 0.5,
+                               {"dsmc.kernel.lambda=1"});
+  DsmcEnsemble e(c.dsmc, 15, 0);
+  const double g = flight::Shear::growth(0.45);
+  for (double t = 0.05; t <= 6.0; t += 0.05) {
+    e.advance_to(t);
+    double r = 0;
+    for (const auto& q : e.particles()) r = std::max(r, std::sqrt(norm2(q.v)));
+    ASSERT_GE(e.u_max(), 2 * g * r * (1 - 1e-12)) << "t = " << t;
+  }
+}
