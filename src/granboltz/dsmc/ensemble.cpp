@@ -63,14 +63,14 @@ DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, std::uint64_t seed, std::ui
       p_(config.particles),
       adapt_factor2_(config.majorant_update == MajorantUpdate::kStrict ? 4.0 : 1.0),
       heated_(config.thermostat == Thermostat::kWhiteNoise && config.beta > 0.0),
-      flight_(config.flight_of(0)),
-      linear_(config.linear_flight()),
       gaussian_(config.thermostat == Thermostat::kGaussian),
       events_(make_stream(seed, ensemble, Consumer::kEvents)),
       pairs_(make_stream(seed, ensemble, Consumer::kPairs)),
       sweep_(make_stream(seed, ensemble, Consumer::kSweep)),
       pairwise_(config.majorant == MajorantKind::kPairwise),
-      progress_(progress) {
+      progress_(progress),
+      flight_(config.flight_of(0)),
+      linear_(config.linear_flight()) {
   Engine init = make_stream(seed, ensemble, Consumer::kInitial);
   const double sd = std::sqrt(c_.initial_temperature);
   const PreparedStart start = prepared_start(c_.initial_temperature_tensor, c_.initial_heat_flux,
@@ -762,14 +762,14 @@ DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, const H5Reader& in, const s
       p_(config.particles),
       adapt_factor2_(config.majorant_update == MajorantUpdate::kStrict ? 4.0 : 1.0),
       heated_(config.thermostat == Thermostat::kWhiteNoise && config.beta > 0.0),
-      flight_(config.flight_of(0)),
-      linear_(config.linear_flight()),
       gaussian_(config.thermostat == Thermostat::kGaussian),
       events_(read_engine(in, g + "/events_stream")),
       pairs_(read_engine(in, g + "/pairs_stream")),
       sweep_(read_engine(in, g + "/sweep_stream")),
       pairwise_(config.majorant == MajorantKind::kPairwise),
-      progress_(progress) {
+      progress_(progress),
+      flight_(config.flight_of(0)),
+      linear_(config.linear_flight()) {
   const std::size_t n = p_.size();
   const bool rows = read_particles(in, g + "/particles", p_);
   const auto scalars = in.read_double(g + "/scalars");

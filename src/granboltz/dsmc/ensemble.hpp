@@ -126,14 +126,6 @@ class DsmcEnsemble {
   double inv_rate_ = 0.0; // 1 / pi_hat, pi_hat = 2 pi gamma C (n - 1) U_max^lambda
   double adapt_factor2_;  // (1 or 2)^2: paper or strict majorant update
   bool heated_;           // white noise with beta > 0
-  // Drag or shear (physics/flight/): every kick is the flight's exact propagator, the majorant
-  // is centred on 0 (the flights contract or shear about it), and with shear it allows for the
-  // growth of a speed over one window of the drift (growth_ = its largest factor).
-  LinearFlight flight_;
-  bool linear_;
-  double window_ = 0.0;           // shear: the length of a majorant window
-  std::uint64_t next_window_ = 1; // shear, nosplit: the window that ends at next_window_ * window_
-  double growth_ = 1.0;
   bool gaussian_;         // dsmc.thermostat: gaussian
   GaussianThermostat gauss_;  // gaussian: the lazy scale's sums and s^2
   double clock_ = 1.0;    // gaussian, pairwise majorant: s^-lambda (the rate is in w units)
@@ -153,6 +145,14 @@ class DsmcEnsemble {
   double pairwise_rate_factor_ = 0.0;  // pi_hat / W
   EventCounts counts_;
   ProgressSlot* progress_;
+  // Drag or shear (last, off the hot members' cache lines) (physics/flight/): every kick is the flight's exact propagator, the majorant
+  // is centred on 0 (the flights contract or shear about it), and with shear it allows for the
+  // growth of a speed over one window of the drift (growth_ = its largest factor).
+  LinearFlight flight_;
+  bool linear_ = false;
+  double window_ = 0.0;           // shear: the length of a majorant window
+  std::uint64_t next_window_ = 1; // shear, nosplit: the window that ends at next_window_ * window_
+  double growth_ = 1.0;
 };
 
 }  // namespace granboltz
