@@ -12,8 +12,8 @@
 // thermal speeds differ (masses tenfold apart).
 //
 // Free flight per species (dsmc.beta as a mapping, dsmc.drag): the particles of species a follow
-// flight_of(a)'s exact propagator (physics/flight/) on their translational velocities (spins are
-// untouched), lazily from their own last time as the white-noise kicks. Drag pulls velocities
+// the exact law of flight_of(a) (physics/flight/; fly() in gas.cpp) on their translational
+// velocities (spins are untouched), lazily from their own last time as the white-noise kicks. Drag pulls velocities
 // towards 0, so the majorant is then centred at V0 = 0: without noise a speed about 0 only
 // shrinks and the bounds stay exact; with noise the bounds follow the kicked partners (the
 // truncated-kernel rule of white noise). A scalar beta without drag (or a mapping of equal
