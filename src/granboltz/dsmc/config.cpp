@@ -360,9 +360,6 @@ void check_flights(const Section& s, const DsmcConfig& c) {
   if (c.general() && shear)
     throw ConfigError(s.name("shear") + ": not available for mixtures or rough particles "
                       "(dsmc.species, dsmc.roughness); shear flow runs one smooth species");
-  if (c.general() && drag)
-    throw ConfigError(s.name("drag") + ": not available for mixtures or rough particles "
-                      "(dsmc.species, dsmc.roughness) yet");
   if (!shear) return;
   if (c.majorant == MajorantKind::kPairwise)
     throw ConfigError(s.name("majorant") + " = pairwise: not exact with dsmc.shear (the drift "

@@ -10,6 +10,14 @@
 // pairs. A class is drawn against the cumulative rates, the partners uniformly in their blocks,
 // and the candidate is accepted with (|u|/U_ab)^lambda: exact, and efficient when the species'
 // thermal speeds differ (masses tenfold apart).
+//
+// Free flight per species (dsmc.beta as a mapping, dsmc.drag): the particles of species a follow
+// the exact law of flight_of(a) (physics/flight/; fly() in gas.cpp) on their translational
+// velocities (spins are untouched), lazily from their own last time as the white-noise kicks. Drag pulls velocities
+// towards 0, so the majorant is then centred at V0 = 0: without noise a speed about 0 only
+// shrinks and the bounds stay exact; with noise the bounds follow the kicked partners (the
+// truncated-kernel rule of white noise). A scalar beta without drag (or a mapping of equal
+// values) keeps the white-noise kicks, draw for draw.
 #include <atomic>
 #include <cstdint>
 #include <string>
@@ -66,10 +74,11 @@ class GasEnsemble {
   void adapt_all();
   double energy_of(std::uint32_t a, std::size_t i) const;  // m |w - V0|^2 + I |W|^2
   void fold();                // Gaussian: the scale into the stored values, exact energy
-  template <class G>
+  template <class G, bool kFly>
   bool events(double s_end, const std::atomic<bool>* pause, bool kicks);
   void kick_all_to(double s);
   void kick_all_by(double h);
+  void fly_all(double s, bool by);  // every particle's flight to s (by: over s from now)
   void report(double t) {
     if (progress_) progress_->store(t / c_.t_end, std::memory_order_relaxed);
   }
@@ -85,6 +94,8 @@ class GasEnsemble {
   std::vector<double> cum_;    // cumulative class rates (stored units)
   double rate_ = 0.0;          // their sum
   bool heated_, gaussian_, rough_;
+  bool flying_;                       // per-species beta or drag: the flights below
+  std::vector<LinearFlight> flights_;  // flight_of(a) per species
   int lambda_case_ = 0;
   double s2_ = 1.0, energy_ = 0.0, target_ = 0.0;  // Gaussian: lazy scale, sum energy, its target
   Engine events_, pairs_, sweep_;
