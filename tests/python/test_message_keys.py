@@ -51,6 +51,8 @@ SECTIONS = [
     ("dsmc.weights.split", DSMC, WEIGHTS + ["dsmc.weights.split.radius=2",
                                             "dsmc.weights.split.rate=1",
                                             "dsmc.weights.split.interval=0.5"]),
+    ("dsmc.drag", DSMC, ALPHA + ["dsmc.drag.gamma=1"]),
+    ("dsmc.shear", DSMC, ALPHA + ["dsmc.shear.rate=1"]),
     ("dsmc.roughness", DSMC, ALPHA + ["dsmc.roughness.beta=0.5", "dsmc.roughness.inertia=0.4"]),
     ("dsmc.restitution", DSMC, ["dsmc.restitution.law=viscoelastic",
                                 "dsmc.restitution.delta=0.1"]),

@@ -515,6 +515,11 @@ class GasModel {
     q_ = d.dimension == 2 ? 1.0 : 2.0;
     d_rot_ = d.dimension == 2 ? 1.0 : 3.0;
     heat_ = d.thermostat == Thermostat::kWhiteNoise ? 2.0 * d.beta : 0.0;
+    for (std::size_t a = 0; a < d.species.size(); ++a) {
+      const LinearFlight f = d.flight_of(a);
+      heat_of_.push_back(d.thermostat == Thermostat::kWhiteNoise ? 2.0 * f.beta : 0.0);
+      drag_of_.push_back(f.gamma);
+    }
     gaussian_ = d.thermostat == Thermostat::kGaussian;
   }
 
@@ -605,7 +610,10 @@ class GasModel {
       zeta_ = -loss / energy;
       for (std::size_t i = 0; i < x.size(); ++i) dx[i] += zeta_ * std::max(x[i], 0.0);
     }
-    for (std::size_t a = 0; a < K_; ++a) dx[a] += heat_ * m_[a];
+    // White noise heats T_a by 2 m_a beta_a, drag cools it at 2 gamma_a (per species when the
+    // config maps them).
+    for (std::size_t a = 0; a < K_; ++a)
+      dx[a] += heat_of_[a] * m_[a] - 2.0 * drag_of_[a] * std::max(x[a], 0.0);
   }
 
   // Candidates per unit time with the bounds R.
@@ -654,6 +662,7 @@ class GasModel {
   std::vector<double> N_, m_, r_, I_;
   std::vector<Class> classes_;
   double gn_ = 0.5, q_ = 2.0, d_rot_ = 3.0, heat_ = 0.0, zeta_ = 0.0;
+  std::vector<double> heat_of_, drag_of_;  // per species: 2 beta_a, gamma_a
   bool gaussian_ = false;
 };
 
@@ -696,7 +705,7 @@ DsmcEvents gas_events(const DsmcConfig& d) {
   g.check_scales();
   const std::size_t K = g.species(), dim = g.size();
   const double n = static_cast<double>(d.particles);
-  const bool heated = d.thermostat == Thermostat::kWhiteNoise && d.beta > 0.0;
+  const bool heated = (d.thermostat == Thermostat::kWhiteNoise && d.beta > 0.0) || d.linear_flight();
   const bool split = d.scheme != Scheme::kNoSplit;
   const double lambda = d.kernel.lambda;
   const double observations = static_cast<double>(d.observations());
