@@ -4,6 +4,7 @@
 // source is refused in one line; and a continuation under the same physics follows the law of
 // the uninterrupted run.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <cmath>
 #include <string>
@@ -132,6 +133,9 @@ TEST(InitialFrom, IncompatibleOrChangedSourcesAreRefusedInOneLine) {
   refused(continued(src), {"dsmc.dimension=2"}, "dsmc.initial.from");
   refused(continued(dir.file("missing.h5")), {}, "dsmc.initial.from");
   refused(continued(dir.write("text.h5", "not hdf5")), {}, "dsmc.initial.from");
+  refused(continued(dir.path.string()), {}, "not a regular file");
+  ASSERT_EQ(::mkfifo(dir.file("fifo.h5").c_str(), 0600), 0);
+  refused(continued(dir.file("fifo.h5")), {}, "not a regular file");  // and does not block
   refused(continued(src), {"dsmc.weights={method: swpm, kappa: 0, max_particles: 800}"},
           "weighted particles");
   // The source rewritten by another config: the stored config of the continued run refuses it.

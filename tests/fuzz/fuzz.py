@@ -76,7 +76,7 @@ VARIANTS = {
 # Key names the mutations draw from: the schema's (docs/config.md) and some that are not.
 KEYS = ["model", "seed", "ensembles", "threads", "shard", "index", "count", "checkpoint", "every_seconds",
         "dsmc", "particles", "scheme", "steps", "alpha", "beta", "thermostat", "gamma", "kernel", "lambda",
-        "C", "initial", "temperature", "heat_flux", "t_end", "observe_every", "histogram", "shells", "radius",
+        "C", "initial", "temperature", "heat_flux", "from", "from_hash", "drag", "shear", "t_end", "observe_every", "histogram", "shells", "radius",
         "majorant", "majorant_update", "moments", "steady_from", "weights", "method", "kappa",
         "max_particles", "reduction", "split", "rate", "power", "interval", "max_radius", "intruder",
         "bath", "kind", "a", "mass", "collisions", "density", "sample_every", "bath_particles",

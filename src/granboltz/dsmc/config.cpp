@@ -1,8 +1,11 @@
 // The `dsmc:` section: reading, validation and emission (schema: docs/config.md).
+#include <sys/stat.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <cstdio>
 #include <string>
 #include <type_traits>
@@ -293,6 +296,12 @@ void read_initial_from(const Section& init, DsmcConfig& c) {
            "thermostat's T0)");
   if (source_depth >= kMaxSourceDepth)
     refuse("a chain of more than 8 runs continued from one another (a cycle of files?)");
+  // A FIFO would block the reader, a directory is not an output: a regular file (or a link to
+  // one: an input may be a link into a results tree) only.
+  struct stat st{};
+  if (::stat(c.initial_from.c_str(), &st) != 0)
+    refuse(std::string("cannot be read: ") + std::strerror(errno));
+  if (!S_ISREG(st.st_mode)) refuse("not a regular file (a granboltz output is one)");
   if (const FileCheck check = check_file(c.initial_from); !check.problems.empty())
     refuse(check.problems.front());
   std::string text;
