@@ -342,7 +342,7 @@ DsmcEvents dsmc_events(const DsmcConfig& d) {
   };
   // No-splitting shear: the majorant of a window allows for the growth of a speed in it.
   const double window_growth =
-      flight.shear != 0.0 && !split ? flight::Shear::growth(0.45) : 1.0;
+      flight.shear != 0.0 && !split ? flight::Shear::growth(flight::Shear::kWindow) : 1.0;
   if (!std::isfinite(A * (constant_law ? B : B1) * heat * T0 * d.t_end * u0 + 1.0)) {  // cannot be integrated
     e.collisions = e.candidates = NAN;
     return e;
@@ -406,7 +406,7 @@ DsmcEvents dsmc_events(const DsmcConfig& d) {
   if (heated || flies) {
     if (!split)  // both partners at every candidate, all at observations (and shear windows)
       e.kicks = 2.0 * e.candidates + n * observations +
-                (flight.shear != 0.0 ? n * std::floor(d.t_end * std::fabs(flight.shear) / 0.45) : 0.0);
+                (flight.shear != 0.0 ? n * std::floor(d.t_end * std::fabs(flight.shear) / flight::Shear::kWindow) : 0.0);
     else
       e.kicks = n * steps;
   }

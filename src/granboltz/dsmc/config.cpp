@@ -276,6 +276,13 @@ void read_flight(const Section& s, const DsmcConfig& c, F, FlightParam& p) {
   }
   f.finish({F::kKey});
 }
+// A config hash as written in the stored config: 16 hex digits.
+std::string hash_text(std::uint64_t h) {
+  char text[17];
+  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(h));
+  return text;
+}
+
 // dsmc.initial.from: the source output's stored config, read and checked against this run's.
 // A source may itself continue another; the chain is bounded so that a cycle of files (one
 // rewritten to name another that names it) is refused instead of recursing without end.
@@ -318,8 +325,7 @@ void read_initial_from(const Section& init, DsmcConfig& c) {
   c.initial_from_hash = text_hash(text);
   if (init.has("from_hash")) {
     const std::string want = init.identifier("from_hash");
-    char have[17];
-    std::snprintf(have, sizeof have, "%016llx", static_cast<unsigned long long>(c.initial_from_hash));
+    const std::string have = hash_text(c.initial_from_hash);
     if (want != have)
       refuse("its stored config has changed since this run was configured (from_hash " + want +
              ", now " + have + ")");
@@ -787,10 +793,9 @@ void emit_dsmc(YAML::Emitter& out, const DsmcConfig& c) {
     out << YAML::EndSeq;
   }
   if (!c.initial_from.empty()) {
-    char hash[17];
-    std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(c.initial_from_hash));
     out << YAML::Key << "from" << YAML::Value << YAML::DoubleQuoted << c.initial_from;
-    out << YAML::Key << "from_hash" << YAML::Value << YAML::DoubleQuoted << hash;
+    out << YAML::Key << "from_hash" << YAML::Value << YAML::DoubleQuoted
+        << hash_text(c.initial_from_hash);
   }
   out << YAML::EndMap;
   out << YAML::Key << "t_end" << YAML::Value << format_real(c.t_end);

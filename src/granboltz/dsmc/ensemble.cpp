@@ -29,10 +29,6 @@ struct LinearFlightKicks {
   static constexpr bool kLazyScale = false;
 };
 
-// Shear: a window of the majorant lasts a |a| t = 0.45, over which a speed grows by at most
-// flight::Shear::growth(0.45) = 1.25: the acceptance costs at most 1/1.25 of the events, and the
-// O(n) sync at each window's end stays a small part of the collisions in it.
-constexpr double kShearWindow = 0.45;
 
 // The lambda cases with a loop of their own: Maxwell molecules, hard spheres, lambda = 1/2, other.
 constexpr int kMaxwell = 0, kHardSpheres = 1, kHalf = 2, kGeneral = 3;
@@ -142,10 +138,10 @@ void DsmcEnsemble::set_shear_windows() {
   // Only the no-splitting loop drifts between its events; the splitting schemes fly every
   // particle between collision steps, after which the strict majorant update is exact.
   if (flight_.shear == 0.0 || c_.scheme != Scheme::kNoSplit) return;
-  window_ = kShearWindow / std::abs(flight_.shear);
+  window_ = flight::Shear::kWindow / std::abs(flight_.shear);
   if (gaussian_)  // the scale is folded at each window's end: cooling by at most e^-1 per window
     window_ = std::min(window_, 4.0 / (c_.kernel.area * c_.kernel.gamma * c_.kernel.C));
-  growth_ = flight::Shear::growth(kShearWindow);
+  growth_ = flight::Shear::growth(flight::Shear::kWindow);
   adapt_factor2_ *= growth_ * growth_;
 }
 

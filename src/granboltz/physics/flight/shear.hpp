@@ -17,6 +17,10 @@ struct Shear {
   static constexpr bool kPerSpecies = false;  // one flow for every species
   static constexpr bool kNegative = true;     // a < 0 is the flow reversed
   static void add(LinearFlight& f, double rate) { f.shear += rate; }
+  /// The no-splitting loop's majorant window, in units of 1/|a|: over it a speed grows by at
+  /// most growth(kWindow) = 1.25, so the acceptance costs at most 1/1.25 of the events, and the
+  /// O(n) sync at each window's end stays a small part of the collisions in it.
+  static constexpr double kWindow = 0.45;
   /// The operator norm of exp(-A s) for A = a e_x e_y^T: the most a speed can grow over s.
   static double growth(double as) { return 0.5 * (std::abs(as) + std::sqrt(as * as + 4.0)); }
 };
