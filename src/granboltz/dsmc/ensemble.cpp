@@ -200,24 +200,13 @@ void DsmcEnsemble::set_scale() {
 }
 
 void DsmcEnsemble::fold_scale() {
-  // The true velocities are V + f (w - m), m the exact mean of the stored ones: the peculiar
-  // velocities scaled so that the centred temperature (GRW05 eq. 13) is T0 to round-off, and the
-  // bulk velocity the conserved V. Taking f from the exact sum, not from s, removes the drift of
-  // the running energy; centring on m, not on V, keeps the round-off momentum of the stored
-  // velocities from being amplified by s at every fold.
-  const double n = static_cast<double>(p_.size());
-  Vec3 sum;
-  for (const auto& q : p_) sum += q.v;
-  const Vec3 mean = (1.0 / n) * sum;
-  double k = 0.0;
-  for (const auto& q : p_) k += norm2(q.v - mean);
-  const double f = GaussianThermostat::fold_factor(c_.dimension, n, c_.initial_temperature, k);
-  double e = 0.0;
-  for (auto& q : p_) {
-    q.v = v0_ + f * (q.v - mean);
-    e += norm2(q.v - v0_);
-  }
-  gauss_.energy = gauss_.target = e;
+  const auto folded = GaussianThermostat::fold(
+      std::span<Particle>(p_.data(), p_.size()), {}, v0_,
+      [&](double n) { return GaussianThermostat::target_of(c_.dimension, n, c_.initial_temperature); },
+      [&](auto fn) {
+        for (std::size_t i = 0; i < p_.size(); ++i) fn(i, 1.0, 0.0);
+      });
+  gauss_.energy = gauss_.target = folded.energy;
   set_scale();
 }
 

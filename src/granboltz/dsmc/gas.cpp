@@ -228,40 +228,21 @@ void GasEnsemble::adapt_all() {
 }
 
 void GasEnsemble::fold() {
-  // True values V0 + f (w - M), f W, with M the exact centre of mass of the stored velocities and
-  // f from the exact energy about it: the total energy is the target to round-off, and the
-  // round-off momentum of the stored velocities is not amplified.
-  Vec3 momentum;
-  double total_mass = 0.0;
-  for (std::size_t a = 0; a < c_.species.size(); ++a) {
-    const auto& sp = c_.species[a];
-    for (std::uint64_t i = sp.offset; i < sp.offset + sp.count; ++i) {
-      momentum += mass_[a] * p_[i].v;
-      total_mass += mass_[a];
-    }
-  }
-  const Vec3 M = (1.0 / total_mass) * momentum;
-  double k = 0.0;
-  for (std::size_t a = 0; a < c_.species.size(); ++a) {
-    const auto& sp = c_.species[a];
-    for (std::uint64_t i = sp.offset; i < sp.offset + sp.count; ++i) {
-      k += mass_[a] * norm2(p_[i].v - M);
-      if (rough_) k += inertia_[a] * norm2(w_[i]);
-    }
-  }
-  const double f = std::sqrt(target_ / k);
-  for (auto& q : p_) q.v = v0_ + f * (q.v - M);
-  for (auto& w : w_) w = f * w;
-  double e = 0.0;
-  for (std::size_t a = 0; a < c_.species.size(); ++a) {
-    const auto& sp = c_.species[a];
-    for (std::uint64_t i = sp.offset; i < sp.offset + sp.count; ++i)
-      e += energy_of(static_cast<std::uint32_t>(a), i);
-  }
-  energy_ = e;
+  // Masses weigh the centre and the energy: the total energy, spins included, is the target.
+  const auto folded = GaussianThermostat::fold(
+      std::span<Particle>(p_.data(), p_.size()),
+      rough_ ? std::span<Vec3>(w_.data(), w_.size()) : std::span<Vec3>{}, v0_,
+      [&](double) { return target_; },
+      [&](auto fn) {
+        for (std::size_t a = 0; a < c_.species.size(); ++a) {
+          const auto& sp = c_.species[a];
+          for (std::uint64_t i = sp.offset; i < sp.offset + sp.count; ++i) fn(i, mass_[a], inertia_[a]);
+        }
+      });
+  energy_ = folded.energy;
   s2_ = target_ / energy_;
   // The bounds were in the old stored units.
-  for (double& r : r_max_) r *= f;
+  for (double& r : r_max_) r *= folded.factor;
   set_rates();
 }
 

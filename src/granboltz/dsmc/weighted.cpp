@@ -606,21 +606,19 @@ void WeightedEnsemble::set_velocities(const std::vector<Vec3>& v) {
 }
 
 void WeightedEnsemble::fold_scale() {
-  // As DsmcEnsemble::fold_scale with the weighted sums: the true velocities are V + f (w - m), m
-  // the weighted mean of the stored ones and f such that the weighted centred temperature
-  // sum g |v - V|^2 / (d sum g) is T0 to round-off. Centring on m puts the bulk velocity back on
-  // the conserved V after the roulette's momentum noise (it keeps momentum only in expectation).
-  // The collisions' scale s^2 is added to the cooling integral first: it is the factor by which
-  // the collisions alone (not the roulette or the round-off, which f also absorbs) cooled the gas.
-  const auto [G, mean, k] = weighted_centre(p_, g_);
-  const double f = GaussianThermostat::fold_factor(c_.dimension, G, c_.initial_temperature, k);
-  double e = 0.0;
-  for (std::size_t i = 0; i < p_.size(); ++i) {
-    p_[i].v = v0_ + f * (p_[i].v - mean);
-    e += g_[i] * norm2(p_[i].v - v0_);
-  }
+  // The weighted sums: the weighted centred temperature sum g |v - V|^2 / (d sum g) is T0 to
+  // round-off, and the bulk velocity is back on the conserved V after the roulette's momentum
+  // noise (it keeps momentum only in expectation). The collisions' scale s^2 is added to the
+  // cooling integral first: it is the factor by which the collisions alone (not the roulette or
+  // the round-off, which the fold absorbs too) cooled the gas.
+  const auto folded = GaussianThermostat::fold(
+      std::span<Particle>(p_.data(), p_.size()), {}, v0_,
+      [&](double G) { return GaussianThermostat::target_of(c_.dimension, G, c_.initial_temperature); },
+      [&](auto fn) {
+        for (std::size_t i = 0; i < p_.size(); ++i) fn(i, g_[i], 0.0);
+      });
   cooled_ += std::log(gauss_.s2);
-  gauss_.set(e, e);
+  gauss_.set(folded.energy, folded.energy);
 }
 
 void WeightedEnsemble::recompute_majorant() {

@@ -8,10 +8,13 @@
 // = sum |w - V|^2 kept current collision by collision, target = d n T0. A law whose eps depends
 // on the size of g_n takes it at the true speed (the stored one times s). The engine folds s into
 // the stored velocities now and then (and before every observation), recomputing both sums
-// exactly. This struct is that state and its arithmetic; the folds live in the engines.
+// exactly. This struct is that state, its arithmetic and the fold, which every engine calls.
 #include <cmath>
+#include <cstddef>
+#include <span>
 
 #include "granboltz/core/hot.hpp"
+#include "granboltz/core/vec3.hpp"
 #include "granboltz/physics/thermostat/kind.hpp"
 
 namespace granboltz {
@@ -35,10 +38,45 @@ struct GaussianThermostat {
     energy += delta;
     s2 = target / energy;
   }
-  /// The factor that brings peculiar velocities with sum of squares k to temperature T0 in d
-  /// dimensions for n particles: sqrt(d n T0 / k).
-  static double fold_factor(int d, double n, double T0, double k) {
-    return std::sqrt(static_cast<double>(d) * n * T0 / k);
+  /// The energy d G T0 of G particles' worth of weight at temperature T0 in d dimensions.
+  static double target_of(int d, double G, double T0) { return static_cast<double>(d) * G * T0; }
+
+
+  struct Folded {
+    double factor;  ///< f
+    double energy;  ///< sum g |v - V|^2 (+ I |W|^2) of the folded velocities
+  };
+
+  /// Folds the scale into the stored velocities: v_i = V + f (w_i - M), M = sum g w / G the
+  /// weighted mean of the stored velocities (G = sum g) and f^2 = target(G) / K, K = sum g |w - M|^2 (+ I |W|^2
+  /// with spins, which scale by f too). Taking f from the exact sum, not from s, removes the
+  /// drift of the running energy; centring on M, not on V, keeps the round-off momentum of the
+  /// stored velocities (and an SWPM roulette's momentum noise) from being amplified by s at
+  /// every fold. `each(fn)` calls fn(i, g_i, I_i) for every particle in one fixed order: the
+  /// weight is 1, a species' mass or an SWPM weight, I the moment of inertia (read only with
+  /// spins). The same sums in the same order in every engine: a fold's bits depend on them.
+  template <class P, class Target, class Each>
+  static Folded fold(std::span<P> p, std::span<Vec3> spins, Vec3 V, Target target, Each each) {
+    Vec3 sum;
+    double G = 0.0;
+    each([&](std::size_t i, double g, double) {
+      sum += g * p[i].v;
+      G += g;
+    });
+    const Vec3 M = (1.0 / G) * sum;
+    double k = 0.0;
+    each([&](std::size_t i, double g, double I) {
+      k += g * norm2(p[i].v - M);
+      if (!spins.empty()) k += I * norm2(spins[i]);
+    });
+    const double f = std::sqrt(target(G) / k);
+    for (auto& q : p) q.v = V + f * (q.v - M);
+    for (auto& w : spins) w = f * w;
+    double e = 0.0;
+    each([&](std::size_t i, double g, double I) {
+      e += spins.empty() ? g * norm2(p[i].v - V) : g * norm2(p[i].v - V) + I * norm2(spins[i]);
+    });
+    return {f, e};
   }
 };
 
