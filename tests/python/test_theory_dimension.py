@@ -10,7 +10,7 @@ import types
 import pytest
 
 THEORY_MODULES = ["sonine", "theory", "maxwell_hierarchy", "viscoelastic", "tail_theory", "hcs_tail", "beyond",
-                  "disks", "mixtures", "rough", "moment_checks", "shear"]
+                  "disks", "mixtures", "rough", "moment_checks", "shear", "transport"]
 
 # d-free, and why: data (rows, verdicts, fits of a run's numbers), utilities, or another model's formula
 D_FREE = {
@@ -86,6 +86,10 @@ CASES = {
     "shear.maxwell_steady_shear_rate": ((0.5, 1.0, 0.08), TWO), "shear.maxwell_usf_ratios": ((0.5,), TWO),
     "shear.maxwell_gaussian_usf_ratios": ((0.5, 1.0, 1.0, 0.08), TWO),
     "shear.hard_sphere_nu0": ((1.0, 1.0, 0.08), THREE), "shear.hard_sphere_usf_grad": ((0.5, 1.0, 1.0, 0.08), THREE),
+    "transport.maxwell_rates": ((0.5,), TWO), "transport.maxwell_fourth_moment_rates": ((0.5,), TWO),
+    "transport.maxwell_hcs_a2": ((0.5,), TWO), "transport.maxwell_coefficients": ((0.5,), TWO),
+    "transport.maxwell_reduced": ((0.5,), TWO), "transport.hard_sphere_zeta_star": ((0.5, 0.01), TWO),
+    "transport.hard_sphere_reduced": ((0.5,), TWO), "transport.hard_sphere_nu0_coefficients": ((0.5,), TWO),
     "shear.maxwell_drag_a2": ((0.5, 1.0), THREE), "shear.hard_sphere_drag_state": ((0.5, 1.0, 0.5, 1.0, 0.08), THREE),
 }
 

@@ -1,0 +1,109 @@
+"""granboltz.transport: the exact lambda = 0 rates checked a second way (Monte Carlo of the
+collision map itself, and the exact moment hierarchy), the coefficients' elastic limits, and the
+hard-sphere first-Sonine values the reference quotes."""
+
+import math
+
+import numpy as np
+import pytest
+
+from granboltz import maxwell_hierarchy, transport
+
+
+def _collide(v, w, alpha, rng):
+    """GRW05 eq. 4 with e uniform on S^{d-1}: the simulator's `geometry: uniform` map."""
+    d = v.shape[1]
+    e = rng.standard_normal(v.shape)
+    e /= np.linalg.norm(e, axis=1)[:, None]
+    u = np.linalg.norm(v - w, axis=1)[:, None]
+    return 0.5 * (v + w) + (1 - alpha) / 4 * (v - w) + (1 + alpha) / 4 * u * e
+
+
+def _skewed(n, d, rng):
+    """Independent velocities with mean 0, a heat flux along x and a non-Gaussian fourth moment."""
+    g = rng.standard_normal((n, d))
+    g[:, 0] += 0.4 * (g[:, 0] ** 2 - 1)  # E = 0, E[g^3] != 0
+    return g
+
+
+@pytest.mark.parametrize("d", [2, 3])
+@pytest.mark.parametrize("alpha", [0.3, 0.8])
+def test_the_heat_flux_rate_is_that_of_the_collision_map(d, alpha):
+    # E[v1'_x |v1'|^2] = (1 - nu_Q/nu) <v_x |v|^2> for independent v1, v2 of zero mean: the
+    # estimator's own standard error gives the tolerance (family-wise 0.999 over 4 cases).
+    rng = np.random.default_rng(17 + d)
+    n = 400_000
+    v, w = _skewed(n, d, rng), _skewed(n, d, rng)
+    vp = _collide(v, w, alpha, rng)
+    nu_q = transport.maxwell_rates(alpha, d)["Q"]
+    # The mean of (before-after combination) has expectation 0: its own interval decides.
+    x = vp[:, 0] * np.sum(vp**2, axis=1) - (1 - nu_q) * v[:, 0] * np.sum(v**2, axis=1)
+    assert abs(x.mean()) < 3.5 * x.std() / math.sqrt(n), (x.mean(), x.std() / math.sqrt(n))
+    # The test can fail: the d = 3 rate used in d = 2 (or the other way) is far outside.
+    other = transport.maxwell_rates(alpha, 5 - d)["Q"]
+    y = vp[:, 0] * np.sum(vp**2, axis=1) - (1 - other) * v[:, 0] * np.sum(v**2, axis=1)
+    assert abs(y.mean()) > 3.5 * y.std() / math.sqrt(n)
+
+
+@pytest.mark.parametrize("d", [2, 3])
+def test_the_fourth_moment_rates_are_those_of_the_collision_map(d):
+    rng = np.random.default_rng(5)
+    n, alpha = 400_000, 0.4
+    # isotropic, non-Gaussian: a random direction times a speed with a heavy-ish tail
+    def draw():
+        x = rng.standard_normal((n, d))
+        return x / np.linalg.norm(x, axis=1)[:, None] * rng.gamma(3.0, 0.6, n)[:, None]
+    v, w = draw(), draw()
+    vp = _collide(v, w, alpha, rng)
+    c4, c22 = transport.maxwell_fourth_moment_rates(alpha, d)
+    s2 = np.sum(v**2, axis=1)
+    m2, m4 = 0.6**2 * 3 * 4, 0.6**4 * 3 * 4 * 5 * 6  # <r^2>, <r^4> of Gamma(3, 0.6)
+    x = np.sum(vp**2, axis=1) ** 2 - (1 + c4) * s2**2
+    assert abs(x.mean() - c22 * m2**2) < 3.5 * x.std() / math.sqrt(n)
+    assert abs(m4 - np.mean(s2**2)) < 3.5 * np.std(s2**2) / math.sqrt(n)
+
+
+def test_d3_rates_agree_with_the_reference_and_the_exact_hierarchy():
+    for alpha in (0.2, 0.5, 0.9):
+        r = transport.maxwell_rates(alpha)
+        assert r["Q"] == pytest.approx((1 + alpha) * (11 - 7 * alpha) / 24, rel=1e-14)
+        assert r["Pi"] == pytest.approx((1 + alpha) * (3 - alpha) / 8, rel=1e-14)
+        c = [float(x) for x in maxwell_hierarchy.collision_coefficients(2, alpha)]
+        c4, c22 = transport.maxwell_fourth_moment_rates(alpha)
+        assert (c4, c22) == pytest.approx((c[0] + c[2] - 1, c[1]), rel=1e-13)
+        assert transport.maxwell_hcs_a2(alpha) == pytest.approx(float(maxwell_hierarchy.hcs_a2(alpha)), rel=1e-12)
+
+
+def test_maxwell_coefficients_in_closed_form_and_their_limits():
+    for alpha in (0.4, 0.7):
+        red = transport.maxwell_reduced(alpha)
+        assert red["eta"] == pytest.approx(4 / (1 + alpha) ** 2, rel=1e-13)  # reference: 8p/(nu(1+a)^2)
+        assert red["D"] == pytest.approx(2 / (alpha * (1 + alpha)), rel=1e-13)  # 4T/(m nu a(1+a))
+        assert red["mu"] > 0
+    for d in (2, 3):
+        red = transport.maxwell_reduced(1.0, d)
+        assert [red[k] for k in ("eta", "kappa", "D")] == pytest.approx([1, 1, 1], rel=1e-12)
+        assert red["mu"] == pytest.approx(0, abs=1e-12)
+    e = transport.maxwell_coefficients(1.0, nu=2.0, n=1.5, T=0.7, m=1.0)
+    assert e["kappa"] / e["eta"] == pytest.approx(15 / 4, rel=1e-13)  # Eucken, Maxwell molecules
+    assert math.isnan(transport.maxwell_coefficients(0.2)["kappa"])  # nu_Q = 2 zeta exactly at 1/5
+    assert not math.isnan(transport.maxwell_coefficients(0.21)["kappa"])
+
+
+def test_hard_sphere_first_sonine_values_of_the_reference():
+    # transport.md §3: at alpha = 0.5, kappa* = 1.911 (standard) against 1.630 (modified),
+    # eta* = 1.285 against 1.248.
+    st = transport.hard_sphere_nu0_coefficients(0.5, "standard")
+    mo = transport.hard_sphere_nu0_coefficients(0.5, "modified")
+    assert (round(st["kappa"], 3), round(mo["kappa"], 3)) == (1.911, 1.630)
+    assert (round(st["eta"], 3), round(mo["eta"], 3)) == (1.285, 1.248)
+    for d in (2, 3):
+        for version in ("standard", "modified"):
+            el = transport.hard_sphere_reduced(1.0, version, d)
+            assert all(el[k] == pytest.approx(0 if k == "mu" else 1, abs=1e-12) for k in el)
+            assert set(el) == ({"eta", "kappa", "mu", "D"} if d == 3 else {"eta", "D"})
+    # With a2 = 0, D/D0 = 4/(1+alpha)^2 in any d; the Sonine a2 moves it by well under 1 %.
+    for d in (2, 3):
+        assert transport.hard_sphere_reduced(0.8, "standard", d)["D"] == pytest.approx(4 / 1.8**2, rel=0.01)
+    with pytest.raises(ValueError, match="version"):
+        transport.hard_sphere_reduced(0.5, "third")
