@@ -107,3 +107,24 @@ def test_hard_sphere_first_sonine_values_of_the_reference():
         assert transport.hard_sphere_reduced(0.8, "standard", d)["D"] == pytest.approx(4 / 1.8**2, rel=0.01)
     with pytest.raises(ValueError, match="version"):
         transport.hard_sphere_reduced(0.5, "third")
+
+
+@pytest.mark.parametrize("d", [2, 3])
+def test_the_exact_hcs_a2_is_the_simulators(d):
+    # lambda = 0, geometry uniform, Gaussian thermostat: the steady a2 against maxwell_hcs_a2 of
+    # its d, within the run's interval (3.2 sigma over the ensembles' time averages) plus the
+    # finite-n bias 2/n (1 + |a2|) (as the C++ SonineExact tests); the other d's value is outside.
+    import granboltz
+
+    n = 4000
+    dsmc = {"particles": n, "alpha": 0.8, "thermostat": "gaussian",
+            "kernel": {"lambda": 0, "C": 0.15915494309189535}, "t_end": 40, "observe_every": 0.5,
+            "moments": 2, "steady_from": 15}
+    if d == 2:
+        dsmc.update(dimension=2, geometry="uniform")
+    run = granboltz.simulate({"model": "dsmc", "seed": 3, "ensembles": 60, "dsmc": dsmc}, progress=False)
+    a2 = run.steady["a2"]
+    exact, other = transport.maxwell_hcs_a2(0.8, d), transport.maxwell_hcs_a2(0.8, 5 - d)
+    tolerance = a2.ci + 2 / n * (1 + abs(exact))
+    assert abs(a2.mean - exact) < tolerance, (a2.mean, a2.ci, exact)
+    assert abs(a2.mean - other) > tolerance, (a2.mean, a2.ci, other)
