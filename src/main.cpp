@@ -1,6 +1,7 @@
 // granboltz: command line. Parses arguments, loads the config, dispatches; nothing else.
 #include <CLI/CLI.hpp>
 
+#include <chrono>
 #include <cmath>
 #include <csignal>
 #include <cstdlib>
@@ -16,6 +17,7 @@
 #include "granboltz/h5/verify.hpp"
 #include "granboltz/app/estimate.hpp"
 #include "granboltz/app/run.hpp"
+#include "granboltz/app/summary.hpp"
 #include "granboltz/core/gsl_errors.hpp"
 #include "granboltz/core/version.hpp"
 
@@ -190,7 +192,12 @@ int main(int argc, char** argv) {
     options.threads = config.threads;
     options.progress = !quiet;
     options.label = config_path;
+    const auto start = std::chrono::steady_clock::now();
     granboltz::run_to_file(config, output, options, joined(argc, argv));
+    if (!quiet) {
+      const std::chrono::duration<double> wall = std::chrono::steady_clock::now() - start;
+      std::cout << "granboltz: " << granboltz::run_summary(output, wall.count()) << std::endl;
+    }
     return 0;
   } catch (const granboltz::ConfigError& e) {
     std::fprintf(stderr, "granboltz: error: %s\n", one_line(e.what()).c_str());
