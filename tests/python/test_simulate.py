@@ -5,6 +5,7 @@ uninterrupted advance; its observables are those of its velocities; errors name 
 
 import copy
 import os
+import re
 import signal
 import subprocess
 import threading
@@ -118,7 +119,32 @@ def test_simulate_takes_a_path_and_progress_false_prints_nothing(tmp_path, capfd
     captured = capfd.readouterr()
     assert captured.out == "" and captured.err == ""
     granboltz.simulate(str(cfg), progress=True)
-    assert "100%" in capfd.readouterr().err  # the tqdm bar
+    # stderr is not a terminal here: no bar redrawn into it, one line when the run ends
+    captured = capfd.readouterr()
+    assert captured.out == "" and re.fullmatch(r"c\.yaml: 100% in [0-9.e+-]+ s\n", captured.err), captured.err
+
+
+def test_the_progress_bar_is_drawn_where_stderr_is_a_terminal():
+    import io
+
+    from granboltz._progress import _Bar
+
+    class Terminal(io.StringIO):
+        def isatty(self):
+            return True
+
+    term = Terminal()
+    bar = _Bar("run.yaml", stream=term)
+    for k in range(1, 11):
+        bar(k / 10)
+    bar.close()
+    assert "run.yaml: 100%|" in term.getvalue() and "\r" in term.getvalue()  # tqdm redraws in place
+    pipe = io.StringIO()
+    bar = _Bar("run.yaml", stream=pipe)
+    bar(0.37)
+    bar.close()
+    assert pipe.getvalue() == pipe.getvalue().splitlines()[0] + "\n"
+    assert pipe.getvalue().startswith("run.yaml: 37% in ")
 
 
 def test_config_errors_are_the_clis_messages(tmp_path):

@@ -1,7 +1,9 @@
 """How a long in-process call shows its progress (a tqdm bar) and when Ctrl-C pauses it."""
 
 import signal
+import sys
 import threading
+import time
 
 
 def _sigint_pauses():
@@ -13,21 +15,48 @@ def _sigint_pauses():
             and signal.getsignal(signal.SIGINT) is signal.default_int_handler)
 
 
+def _in_notebook():
+    """Whether this runs in a Jupyter kernel, where tqdm.auto draws its widget (or its text)."""
+    try:
+        from IPython import get_ipython
+    except ImportError:
+        return False
+    shell = get_ipython()
+    return shell is not None and "IPKernelApp" in getattr(shell, "config", {})
+
+
 class _Bar:
-    """A tqdm bar (tqdm.auto: the notebook widget or the terminal) over the run's fraction."""
+    """The run's fraction as a tqdm bar where someone watches it (a terminal: tqdm; a notebook:
+    tqdm.auto's widget), else as one line when it ends: a bar redrawn into a log or a pipe
+    leaves its partial states behind (`0%|...100%|`)."""
 
-    def __init__(self, label):
-        from tqdm.auto import tqdm
+    def __init__(self, label, stream=None):
+        self._stream = sys.stderr if stream is None else stream
+        self._label, self._n, self._start = label, 0, time.monotonic()
+        self._bar = None
+        if _in_notebook() or _isatty(self._stream):
+            from tqdm.auto import tqdm
 
-        self._bar = tqdm(total=1000, desc=label, unit="‰", leave=True,
-                         bar_format="{desc}: {percentage:3.0f}%|{bar}| [{elapsed}<{remaining}]")
-        self._n = 0
+            self._bar = tqdm(total=1000, desc=label, unit="‰", leave=True, file=self._stream,
+                             bar_format="{desc}: {percentage:3.0f}%|{bar}| [{elapsed}<{remaining}]")
 
     def __call__(self, fraction):
         n = min(1000, max(self._n, int(round(1000 * fraction))))
         if n > self._n:
-            self._bar.update(n - self._n)
+            if self._bar is not None:
+                self._bar.update(n - self._n)
             self._n = n
 
     def close(self):
-        self._bar.close()
+        if self._bar is not None:
+            self._bar.close()
+        else:
+            elapsed = time.monotonic() - self._start
+            print(f"{self._label}: {self._n // 10}% in {elapsed:.3g} s", file=self._stream, flush=True)
+
+
+def _isatty(stream):
+    try:
+        return stream.isatty()
+    except (AttributeError, ValueError):  # no isatty, or a closed stream
+        return False

@@ -58,7 +58,8 @@ def simulate(config, output=None, threads=None, progress=True):
     (histograms included) and removed before returning, so the Run does not depend on any file
     (its .path names the removed file). threads: worker threads, an integer 0..1024 (None: the
     config's `threads`, whose default 0 means all cores; never changes results). progress: a
-    tqdm bar while it runs; False: nothing is printed.
+    tqdm bar while it runs in a terminal or a notebook; where stderr is neither (a script's log,
+    a pipe) one line when it ends ("c.yaml: 100% in 2.1 s"); False: nothing is printed.
 
     The GIL is released while the simulator runs. Ctrl-C (SIGINT) stops the run within about a
     tenth of a second (intruder and needle runs: once their ensembles under way end), removes
