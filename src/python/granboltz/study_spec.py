@@ -173,16 +173,20 @@ def study_folder(spec, into=None):
 
 
 def find_binary():
-    """The granboltz simulator: $GRANBOLTZ_BIN, else build/granboltz of this source tree, else
-    `granboltz` on PATH (absolute path); StudyError if none is executable."""
+    """The granboltz simulator: $GRANBOLTZ_BIN, else the one installed with this package (pip
+    install .), else build/granboltz of this source tree, else `granboltz` on PATH (absolute
+    path); StudyError if none is executable."""
+    from ._cli import simulator
+
     env = os.environ.get("GRANBOLTZ_BIN")
     if env:
         if os.access(env, os.X_OK) and os.path.isfile(env):
             return str(pathlib.Path(env).absolute())
         raise StudyError(f"GRANBOLTZ_BIN={env} is not an executable file")
+    own = simulator()
+    if own:
+        return own
     tree = pathlib.Path(__file__).resolve().parents[3] / "build" / "granboltz"
-    if os.access(tree, os.X_OK) and tree.is_file():
-        return str(tree)
     found = shutil.which("granboltz")
     if found:
         return str(pathlib.Path(found).absolute())
