@@ -15,9 +15,12 @@ PACKAGES=(
   python3-jsonschema python3-yaml python3-pandas python3-sympy python3-mpmath python3-setuptools python3-pip
   pybind11-dev python3-pybind11 python3-dev python3-tqdm
 )
-# The documentation (`make docs`: Sphinx, furo, myst-parser) and the tutorial notebook's test
-# (tests/python/test_tutorial.py: nbclient, ipykernel, nbformat).
-PACKAGES+=(python3-sphinx furo python3-myst-parser python3-nbclient python3-ipykernel python3-nbformat)
+# The documentation (`make docs`: Sphinx, furo, myst-parser) and the tutorial notebook, run as a
+# reader runs it (tests/python/test_tutorial.py: jupyter nbconvert --execute, ipykernel, and
+# ipywidgets for the progress bar in a notebook); python3-venv for `pip install .` into a virtual
+# environment (tests/python/test_venv_install.py).
+PACKAGES+=(python3-sphinx furo python3-myst-parser python3-nbclient python3-ipykernel python3-nbformat
+           jupyter-nbconvert python3-nbconvert python3-ipywidgets python3-venv)
 BROWSER_PACKAGES=(chromium)
 # --with-fuzz: AFL++ (and the clang it instruments with), for `make fuzz` only, never CI.
 FUZZ_PACKAGES=(afl++ clang)

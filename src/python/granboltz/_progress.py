@@ -26,16 +26,21 @@ def _in_notebook():
 
 
 class _Bar:
-    """The run's fraction as a tqdm bar where someone watches it (a terminal: tqdm; a notebook:
-    tqdm.auto's widget), else as one line when it ends: a bar redrawn into a log or a pipe
-    leaves its partial states behind (`0%|...100%|`)."""
+    """The run's fraction as a tqdm bar where someone watches it (a terminal: tqdm's text bar; a
+    notebook: tqdm's widget, or its text bar where the widget cannot be drawn), else as one line
+    when it ends: a bar redrawn into a log or a pipe leaves its partial states behind
+    (`0%|...100%|`)."""
 
     def __init__(self, label, stream=None):
         self._stream = sys.stderr if stream is None else stream
         self._label, self._n, self._start = label, 0, time.monotonic()
         self._bar = None
-        if _in_notebook() or _isatty(self._stream):
-            from tqdm.auto import tqdm
+        notebook = _in_notebook()
+        if notebook or _isatty(self._stream):
+            if notebook and _widgets_usable():
+                from tqdm.notebook import tqdm
+            else:  # a terminal, or a notebook's text output, which redraws at a carriage return
+                from tqdm.std import tqdm
 
             self._bar = tqdm(total=1000, desc=label, unit="‰", leave=True, file=self._stream,
                              bar_format="{desc}: {percentage:3.0f}%|{bar}| [{elapsed}<{remaining}]")
@@ -53,6 +58,20 @@ class _Bar:
         else:
             elapsed = time.monotonic() - self._start
             print(f"{self._label}: {self._n // 10}% in {elapsed:.3g} s", file=self._stream, flush=True)
+
+
+def _widgets_usable():
+    """Whether tqdm's notebook widget can be drawn: ipywidgets 7 or later. Debian 12's
+    ipywidgets 6 speaks an older widget protocol, which nbclient (jupyter nbconvert --execute)
+    cannot take: the execution stops with KeyError 'state'."""
+    try:
+        import ipywidgets
+    except ImportError:
+        return False
+    try:
+        return int(str(ipywidgets.__version__).split(".")[0]) >= 7
+    except ValueError:
+        return False
 
 
 def _isatty(stream):
