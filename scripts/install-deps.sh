@@ -12,7 +12,7 @@ PACKAGES=(
   libgsl-dev libhdf5-dev libyaml-cpp-dev libcli11-dev libgtest-dev libbenchmark-dev
   librandom123-dev
   snakemake python3-numpy python3-h5py python3-matplotlib python3-scipy python3-pytest
-  python3-jsonschema python3-yaml python3-pandas python3-sympy python3-mpmath python3-setuptools python3-pip
+  python3-jsonschema python3-yaml python3-pandas python3-xarray python3-sympy python3-mpmath python3-setuptools python3-pip
   pybind11-dev python3-pybind11 python3-dev python3-tqdm
 )
 # The documentation (`make docs`: Sphinx, furo, myst-parser) and the tutorial notebook, run as a

@@ -9,6 +9,31 @@ import os
 from .files import atomic_path
 
 
+def house_style():
+    """The house style (a printed paper's look) as matplotlib rcParams, for plt.rc_context."""
+    return {
+        "font.family": "serif",
+        "font.serif": ["DejaVu Serif"],
+        "mathtext.fontset": "dejavuserif",
+        "font.size": 9,
+        "axes.labelsize": 9,
+        "axes.titlesize": 9,
+        "axes.linewidth": 0.6,
+        "legend.fontsize": 8,
+        "legend.frameon": False,
+        "lines.linewidth": 0.8,
+        "xtick.direction": "in",
+        "ytick.direction": "in",
+        "xtick.top": True,
+        "ytick.right": True,
+        "xtick.major.width": 0.6,
+        "ytick.major.width": 0.6,
+        "savefig.dpi": 200,
+        "savefig.bbox": "tight",
+        "savefig.pad_inches": 0.02,
+    }
+
+
 def pyplot():
     """matplotlib.pyplot on the Agg backend with the house style (a printed paper's look)."""
     import matplotlib
@@ -16,29 +41,7 @@ def pyplot():
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    plt.rcParams.update(
-        {
-            "font.family": "serif",
-            "font.serif": ["DejaVu Serif"],
-            "mathtext.fontset": "dejavuserif",
-            "font.size": 9,
-            "axes.labelsize": 9,
-            "axes.titlesize": 9,
-            "axes.linewidth": 0.6,
-            "legend.fontsize": 8,
-            "legend.frameon": False,
-            "lines.linewidth": 0.8,
-            "xtick.direction": "in",
-            "ytick.direction": "in",
-            "xtick.top": True,
-            "ytick.right": True,
-            "xtick.major.width": 0.6,
-            "ytick.major.width": 0.6,
-            "savefig.dpi": 200,
-            "savefig.bbox": "tight",
-            "savefig.pad_inches": 0.02,
-        }
-    )
+    plt.rcParams.update(house_style())
     return plt
 
 

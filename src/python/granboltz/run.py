@@ -113,6 +113,27 @@ class Run:
         """run["temperature"]: the observable of that name."""
         return self.observables[name]
 
+    def to_xarray(self):
+        """The run as an xarray.Dataset: observables and their intervals over time, steady
+        averages, species, the config as attributes (granboltz.frames)."""
+        from .frames import to_xarray
+
+        return to_xarray(self)
+
+    def to_dataframe(self):
+        """The run's time series as a pandas.DataFrame, one column per scalar or component and
+        its _ci column (granboltz.frames)."""
+        from .frames import to_dataframe
+
+        return to_dataframe(self)
+
+    def plot(self, observable="temperature", theory=None, ax=None, **kwargs):
+        """A quick look at one observable against time with its band and `theory` dashed
+        (granboltz.frames.plot); returns the axes."""
+        from .frames import plot
+
+        return plot(self, observable, theory=theory, ax=ax, **kwargs)
+
     def __repr__(self):
         """A few lines: model, sizes, shard, time grid, observables, steady (or final) values."""
         from .summary import summarize

@@ -199,3 +199,10 @@ def observables(r):
         row["theta"] = _value(source["temperature_rotational"], steady)[0] / _value(source["temperature"], steady)[0]
         row["theta_ci"] = float("nan")
     return row
+
+    def plot(self, x, y, ax=None, theory=None, **table_options):
+        """A quick look: column y of table() against column x, with y_ci as error bars where the
+        table has it, and `theory` (a function of the x values) dashed. Returns the axes."""
+        from .frames import plot_columns
+
+        return plot_columns(self.table(**table_options), x, y, ax=ax, theory=theory)
