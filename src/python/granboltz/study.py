@@ -60,7 +60,7 @@ from .study_folder import LOCK_NAME, _move_aside, _runner_lock, _write_if_change
 from .study_runs import check_runs, identity_problem, not_regular, run_difference, verify_runs
 from .study_snakemake import SNAKEFILE, _Stopped, _unlock_stale, run_snakemake, snakemake_command
 from .study_spec import (MAX_NAME, MAX_POINTS, _cell, _check_points, canonical, check_points, check_study, expand,
-                         find_binary, load_study, point_hash, point_text, run_config, study_folder)
+                         find_binary, full_grid, load_study, point_hash, point_text, run_config, study_folder)
 from .study_yaml import MAX_BYTES, MAX_DEPTH, MAX_NODES, StudyError, _lstat, _one_line, _show, load_yaml
 
 # The parts live in study_yaml (reading), study_spec (the study file and its points), study_folder,
@@ -88,9 +88,10 @@ def _write_folder(spec, folder, points, checked):
         _write_if_changed(folder / "points" / f"{h}.yaml", checked[h][0], folder)
     out = io.StringIO()
     writer = csv.writer(out, lineterminator="\n")
-    writer.writerow(["hash", *spec["grid"]])
+    grid = full_grid(spec)
+    writer.writerow(["hash", *grid])
     for h, values, _ in points:
-        writer.writerow([h, *(_cell(values[k]) for k in spec["grid"])])
+        writer.writerow([h, *(_cell(values[k]) for k in grid)])
     _write_if_changed(folder / "index.csv", out.getvalue(), folder)
     _write_if_changed(folder / "study.yaml", yaml.safe_dump(spec, sort_keys=False), folder)
 
@@ -170,6 +171,11 @@ def main(argv=None):
     p_table.add_argument("study", help="the study file or its folder studies/<study>")
     p_table.add_argument("--into", help="the folder that holds studies/ (default: the current one)")
     p_table.add_argument("--csv", action="store_true", help="print CSV instead of the aligned table")
+    p_table.add_argument("--replicas", action="store_true", help="one row per replica (no aggregation)")
+    p_status = sub.add_parser("status", help="which points have a sound run, which are missing or damaged "
+                                             "(exit status 3 while any is)")
+    p_status.add_argument("study", help="the study file or its folder studies/<study>")
+    p_status.add_argument("--into", help="the folder that holds studies/ (default: the current one)")
     argv = list(sys.argv[1:] if argv is None else argv)
     extra = argv[argv.index("--") + 1:] if "--" in argv else []  # run ... -- SNAKEMAKE ARGS
     args = parser.parse_args(argv[:len(argv) - len(extra) - 1] if "--" in argv else argv)
@@ -186,10 +192,14 @@ def main(argv=None):
         if args.command == "run":
             run(args.study, cores=args.cores, profile=args.profile, into=args.into, extra=extra,
                 max_points=args.max_points)
+        elif args.command == "status":
+            from .study_table import Study
+
+            return _status(Study(args.study, into=args.into))
         else:
             from .study_table import Study
 
-            table = Study(args.study, into=args.into).table()
+            table = Study(args.study, into=args.into).table(aggregate=False if args.replicas else None)
             if args.csv:
                 table.to_csv(sys.stdout, index=False)
             else:
@@ -213,6 +223,23 @@ def main(argv=None):
         if previous is not None:
             signal.signal(signal.SIGTERM, previous)
     return 0
+
+
+def _status(study):
+    """Prints one line per point (hash, grid values, ok or what is wrong) and a summary; the
+    exit status: 0 when every point has a sound run, 3 otherwise."""
+    problems = study.problems()
+    for h, values in study.points:
+        state = problems.get(h, "ok")
+        print(f"{h}  {_one_line(', '.join(f'{k}={_cell(v)}' for k, v in values.items()), 120)}  {_one_line(state, 160)}")
+    kinds = {}
+    for p in problems.values():
+        kind = "missing" if p == "missing" else "damaged" if p.startswith("damaged") else "other"
+        kinds[kind] = kinds.get(kind, 0) + 1
+    detail = ", ".join(f"{n} {k}" if k != "other" else f"{n} not its point's or not a file" for k, n in kinds.items())
+    print(f"{study.name}: {len(study.points) - len(problems)} of {len(study.points)} points have a sound run"
+          + (f" ({detail})" if detail else ""))
+    return 3 if problems else 0
 
 
 if __name__ == "__main__":

@@ -10,11 +10,14 @@ averages with their intervals (or the last row of its time series).
 import copy
 import csv
 import io
+import math
 import pathlib
+
+import numpy as np
 
 from .study_folder import check_folder
 from .study_runs import identity_problem, not_regular
-from .study_spec import _cell, _parser, expand, load_study, point_text, run_config, study_folder
+from .study_spec import _cell, _parser, canonical, expand, full_grid, load_study, point_text, replica_seeds, run_config, study_folder
 from .study_yaml import MAX_BYTES, StudyError, _lstat, _one_line, _read_text
 
 _MAX_INDEX_BYTES = 64 * MAX_BYTES  # an index of MAX_POINTS points with long values fits
@@ -52,7 +55,8 @@ class Study:
         spec = load_study(self.folder / "study.yaml", max_points=None, follow=False)
         expanded = expand(spec)
         points = [(h, values) for h, values, _ in expanded]
-        expected = [["hash", *spec["grid"]]] + [[h, *(_cell(values[k]) for k in spec["grid"])] for h, values in points]
+        grid = full_grid(spec)
+        expected = [["hash", *grid]] + [[h, *(_cell(values[k]) for k in grid)] for h, values in points]
         try:
             rows = list(csv.reader(io.StringIO(text, newline="")))
         except csv.Error as e:
@@ -63,7 +67,8 @@ class Study:
             raise StudyError(f"{index}: does not list the points of {self.folder / 'study.yaml'} (line {line} differs): "
                              "run the study again to rewrite it")
         self.name = self.folder.name
-        self.keys = list(spec["grid"])
+        self.keys = list(grid)
+        self.replicas = replica_seeds(spec)  # the seeds of the replica axis (grid key seed), or None
         self.points = points
         self._configs = {h: config for h, _, config in expanded}
 
@@ -128,11 +133,11 @@ class Study:
         point ..." (its stored config differs from the point's)."""
         return {h: p for h, _ in self.points for _, p in [self._read(h)] if p}
 
-    def table(self, missing="raise"):
+    def table(self, missing="raise", aggregate=None):
         """One row per point: the grid keys, hash, and the run's observables: its steady averages
         with their intervals where the run has them (steady_from), else the last row of its time
         series: temperature, temperature_ci, a2, a2_ci, a3, a3_ci (where the run has them), per
-        species T_<name>, T_<name>_ci, per pair of species a < b T_<a>/T_<b> with its _ci, and for rough
+        species T_<name>, T_<name>_ci (and a2_<name>, a2_<name>_ci with dsmc.moments >= 2), per pair of species a < b T_<a>/T_<b> with its _ci, and for rough
         particles theta = T_rot/T with theta_ci: the ratios the simulator stores, with intervals from
         the measured covariance of the two temperatures (granboltz.ratios; files of simulators that
         did not store them: theta from the means, theta_ci NaN).
@@ -140,7 +145,15 @@ class Study:
 
         missing: "raise" (StudyError naming the points without a sound run: missing, damaged,
         of another point, or not a regular file) or "skip" (their rows keep only grid keys and
-        hash, with missing = True; the column missing is there only then)."""
+        hash, with missing = True; the column missing is there only then).
+
+        With a replica axis (`replicas:` in the study file) the rows of one grid point's replicas
+        are aggregated (aggregate=None or True; False: one row per replica, with its seed): per
+        value column x its mean over the replicas, x_spread (their standard deviation) and x_ci,
+        the interval of that mean from the replicas' spread, Student-t with R - 1 degrees of
+        freedom at the level of lambda_p = 3.2 (99.86 %); and `replicas`, the number of replicas
+        with a sound run. Independent seeds make the spread honest whatever correlations a
+        column's own interval leaves out (a ratio's, or a steady average's)."""
         if missing not in ("raise", "skip"):
             raise ValueError(f"missing must be 'raise' or 'skip', not {missing!r}")
         import pandas as pd
@@ -165,7 +178,17 @@ class Study:
                 if problems:
                     row["missing"] = False
             rows.append(row)
-        return pd.DataFrame(rows)
+        frame = pd.DataFrame(rows)
+        if self.replicas and aggregate is not False:
+            return aggregate_replicas(frame, [k for k in self.keys if k != "seed"], self.points)
+        return frame
+
+    def plot(self, x, y, ax=None, theory=None, **table_options):
+        """A quick look: column y of table() against column x, with y_ci as error bars where the
+        table has it, and `theory` (a function of the x values) dashed. Returns the axes."""
+        from .frames import plot_columns
+
+        return plot_columns(self.table(**table_options), x, y, ax=ax, theory=theory)
 
 
 def _value(obs, steady):
@@ -187,6 +210,8 @@ def observables(r):
         sp_source = sp.steady if steady else sp.observables
         if "temperature" in sp_source:
             row[f"T_{name}"], row[f"T_{name}_ci"] = _value(sp_source["temperature"], steady)
+        if "a2" in sp_source:  # a ratio of the species' moments, its interval by the delta method
+            row[f"a2_{name}"], row[f"a2_{name}_ci"] = _value(sp_source["a2"], steady)
     names = list(r.species or {})
     for i, a in enumerate(names):  # T_a/T_b of a mixture, stored with its interval (granboltz.ratios)
         for b in names[i + 1:]:
@@ -200,9 +225,37 @@ def observables(r):
         row["theta_ci"] = float("nan")
     return row
 
-    def plot(self, x, y, ax=None, theory=None, **table_options):
-        """A quick look: column y of table() against column x, with y_ci as error bars where the
-        table has it, and `theory` (a function of the x values) dashed. Returns the axes."""
-        from .frames import plot_columns
 
-        return plot_columns(self.table(**table_options), x, y, ax=ax, theory=theory)
+# The two-sided level of the package's intervals: lambda_p = 3.2 standard errors (GRW05 §5.1).
+_LEVEL = math.erf(3.2 / math.sqrt(2.0))
+_NOT_VALUES = ("hash", "steady", "time", "missing", "seed")
+
+
+def aggregate_replicas(frame, keys, points):
+    """One row per grid point of a table with one row per replica (Study.table)."""
+    import pandas as pd
+    from scipy import stats
+
+    if "missing" in frame.columns:
+        frame = frame[~frame["missing"].astype(bool)]
+    values = [c for c in frame.columns if c not in keys and c not in _NOT_VALUES and not c.endswith("_ci")]
+    groups = {}
+    for index, (h, point) in enumerate(points):
+        groups.setdefault(tuple(canonical(point[k]) for k in keys), (point, []))[1].append(h)
+    rows = []
+    for point, hashes in groups.values():
+        part = frame[frame["hash"].isin(hashes)]
+        row = {k: point[k] for k in keys}
+        r = len(part)
+        row["replicas"] = r
+        if "steady" in part.columns and r:
+            row["steady"] = bool(part["steady"].all())
+        for c in values:
+            x = part[c].to_numpy(dtype=float) if r else np.array([])
+            mean = float(x.mean()) if r else math.nan
+            spread = float(x.std(ddof=1)) if r > 1 else math.nan
+            ci = float(stats.t.ppf(0.5 + _LEVEL / 2, r - 1) * spread / math.sqrt(r)) if r > 1 else math.nan
+            row[c], row[c + "_spread"], row[c + "_ci"] = mean, spread, ci
+        rows.append(row)
+    return pd.DataFrame(rows)
+
