@@ -19,6 +19,7 @@ from .study_folder import check_folder
 from .study_runs import identity_problem, not_regular
 from .study_spec import _cell, _parser, canonical, expand, full_grid, load_study, point_text, replica_seeds, run_config, study_folder
 from .study_yaml import MAX_BYTES, StudyError, _lstat, _one_line, _read_text
+from .theory import LAMBDA_P
 
 _MAX_INDEX_BYTES = 64 * MAX_BYTES  # an index of MAX_POINTS points with long values fits
 
@@ -226,8 +227,8 @@ def observables(r):
     return row
 
 
-# The two-sided level of the package's intervals: lambda_p = 3.2 standard errors (GRW05 §5.1).
-_LEVEL = math.erf(3.2 / math.sqrt(2.0))
+# The two-sided level of the package's intervals: lambda_p standard errors (GRW05 §5.1).
+_LEVEL = math.erf(LAMBDA_P / math.sqrt(2.0))
 _NOT_VALUES = ("hash", "steady", "time", "missing", "seed")
 
 
