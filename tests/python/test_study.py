@@ -250,8 +250,9 @@ def test_the_studies_section_of_the_docs_runs_as_written(tmp_path):
     from test_docs_python import DOC, code_blocks
 
     blocks = code_blocks(DOC.read_text(), "## Studies")
-    assert [lang for lang, _, _ in blocks] == ["yaml", "sh", "python"]
-    (_, info, study), (_, _, python) = blocks[0], blocks[2]
+    assert sorted(lang for lang, _, _ in blocks) == ["python", "python", "sh", "yaml", "yaml"]
+    (_, info, study), (_, mass_info, mass) = [b for b in blocks if b[0] == "yaml"]
+    mass_python, python = sorted((b[2] for b in blocks if b[0] == "python"), key=lambda code: "mass.yaml" not in code)
     (tmp_path / info.removeprefix("file=")).write_text(study)
     assert gs.load_study(tmp_path / "scan.yaml")["grid"] == GRID  # the example is the tests' grid
     env = dict(os.environ, GRANBOLTZ_BIN=BINARY,
@@ -260,3 +261,10 @@ def test_the_studies_section_of_the_docs_runs_as_written(tmp_path):
     assert out.returncode == 0, out.stderr
     printed = out.stdout.splitlines()
     assert printed[-5].split() == ["dsmc.alpha", "a2", "a2_ci"] and len(printed[-4:]) == 4
+    # the mixture over a species' mass with replicas, as written
+    (tmp_path / mass_info.removeprefix("file=")).write_text(mass)
+    out = subprocess.run([sys.executable, "-c", mass_python], cwd=tmp_path, env=env, capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    printed = out.stdout.splitlines()
+    assert printed[0].split()[:2] == ["dsmc.species.heavy.mass", "replicas"] and len(printed) == 3, out.stdout
+    assert [line.split()[1] for line in printed[1:]] == ["3", "3"] and (tmp_path / "mass.png").stat().st_size > 1000

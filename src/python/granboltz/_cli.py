@@ -17,6 +17,7 @@ def simulator():
 
 
 def main():
+    """`granboltz ARGS`: replaces this process by the simulator with the same arguments."""
     binary = simulator()
     if binary is None:
         here = pathlib.Path(__file__).resolve().parent

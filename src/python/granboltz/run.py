@@ -36,6 +36,7 @@ import numpy as np
 from .io import RunReadError, open_run, provenance, read_config, read_dataset, reading
 from .intervals import Interval, read_fields, read_steady
 from .layout import F8, U8, Spec, check_provenance, config_section, dsmc_layout, shard_range, tv06_layout
+from . import frames
 from .histograms import LazyHistograms
 from .reader import Reader
 from .species import read_species
@@ -113,26 +114,9 @@ class Run:
         """run["temperature"]: the observable of that name."""
         return self.observables[name]
 
-    def to_xarray(self):
-        """The run as an xarray.Dataset: observables and their intervals over time, steady
-        averages, species, the config as attributes (granboltz.frames)."""
-        from .frames import to_xarray
-
-        return to_xarray(self)
-
-    def to_dataframe(self):
-        """The run's time series as a pandas.DataFrame, one column per scalar or component and
-        its _ci column (granboltz.frames)."""
-        from .frames import to_dataframe
-
-        return to_dataframe(self)
-
-    def plot(self, observable="temperature", theory=None, ax=None, **kwargs):
-        """A quick look at one observable against time with its band and `theory` dashed
-        (granboltz.frames.plot); returns the axes."""
-        from .frames import plot
-
-        return plot(self, observable, theory=theory, ax=ax, **kwargs)
+    # The run as data and a quick look (granboltz.frames): run.to_xarray(), run.to_dataframe(),
+    # run.plot("temperature", theory=...).
+    to_xarray, to_dataframe, plot = frames.to_xarray, frames.to_dataframe, frames.plot
 
     def __repr__(self):
         """A few lines: model, sizes, shard, time grid, observables, steady (or final) values."""

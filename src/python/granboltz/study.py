@@ -57,10 +57,11 @@ import sys
 import yaml
 
 from .study_folder import LOCK_NAME, _move_aside, _runner_lock, _write_if_changed, check_folder
+from .study_grid import full_grid
 from .study_runs import check_runs, identity_problem, not_regular, run_difference, verify_runs
 from .study_snakemake import SNAKEFILE, _Stopped, _unlock_stale, run_snakemake, snakemake_command
 from .study_spec import (MAX_NAME, MAX_POINTS, _cell, _check_points, canonical, check_points, check_study, expand,
-                         find_binary, full_grid, load_study, point_hash, point_text, run_config, study_folder)
+                         find_binary, load_study, point_hash, point_text, run_config, study_folder)
 from .study_yaml import MAX_BYTES, MAX_DEPTH, MAX_NODES, StudyError, _lstat, _one_line, _show, load_yaml
 
 # The parts live in study_yaml (reading), study_spec (the study file and its points), study_folder,

@@ -16,8 +16,9 @@ import pathlib
 import numpy as np
 
 from .study_folder import check_folder
+from .study_grid import full_grid, replica_seeds
 from .study_runs import identity_problem, not_regular
-from .study_spec import _cell, _parser, canonical, expand, full_grid, load_study, point_text, replica_seeds, run_config, study_folder
+from .study_spec import _cell, _parser, canonical, expand, load_study, point_text, run_config, study_folder
 from .study_yaml import MAX_BYTES, StudyError, _lstat, _one_line, _read_text
 from .theory import LAMBDA_P
 
