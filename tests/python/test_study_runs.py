@@ -183,7 +183,7 @@ def test_symbolic_links_among_the_study_folders_are_refused(tmp_path):
 # ------------------------------------------------------------------------------ signals and locks
 LONG = dict(BASE, ensembles=1, dsmc=dict({k: v for k, v in BASE["dsmc"].items() if k != "steady_from"},
                                           particles=100000, kernel={"lambda": 0, "C": 0.0795774715459477},
-                                          t_end=400, observe_every=100))
+                                          t_end=2000, observe_every=500))  # ~6 s: the runner must be caught running
 
 
 def start_long(tmp_path, name):
@@ -239,7 +239,7 @@ def test_sigterm_to_the_runner_stops_snakemake_and_the_simulator_and_a_second_ru
     while processes_in(folder) and time.monotonic() < deadline:
         time.sleep(0.1)
     assert not processes_in(folder)
-    assert not list((folder / "runs").glob("*")) if (folder / "runs").exists() else True
+    assert not list((folder / "runs").glob("*")) if (folder / "runs").exists() else True, list((folder / "runs").glob("*"))
     out = cli(tmp_path, "run", "s.yaml")                         # resumes, no unlock needed
     assert out.returncode == 0, out.stderr
     assert not gs.Study(folder).problems()
