@@ -86,7 +86,7 @@ def maxwell_hcs_a2(alpha, d=3, geometry="uniform"):
 def maxwell_coefficients(alpha, nu=1.0, n=1.0, T=1.0, m=1.0, d=3, geometry="uniform"):
     """{eta, kappa, mu, D} of lambda = 0 in the simulator's units [exact] (module docstring):
     nu the collision rate |S^{d-1}| gamma C at density n (any n: nu is taken as given).  kappa
-    and mu are nan where nu_Q <= 2 zeta (alpha <= 1/5 in d = 3, about 0.31 in d = 2): the heat
+    and mu are nan where nu_Q <= 2 zeta (alpha <= 1/5 in d = 3, 1/3 in d = 2): the heat
     flux then relaxes slower than the reference state cools, and has no Navier-Stokes form."""
     rates = maxwell_rates(alpha, d, geometry)
     a2 = maxwell_hcs_a2(alpha, d, geometry)
