@@ -88,6 +88,8 @@ def test_maxwell_coefficients_in_closed_form_and_their_limits():
     assert e["kappa"] / e["eta"] == pytest.approx(15 / 4, rel=1e-13)  # Eucken, Maxwell molecules
     assert math.isnan(transport.maxwell_coefficients(0.2)["kappa"])  # nu_Q = 2 zeta exactly at 1/5
     assert not math.isnan(transport.maxwell_coefficients(0.21)["kappa"])
+    assert math.isnan(transport.maxwell_coefficients(0.33, d=2)["mu"])  # d = 2: nu_Q = 2 zeta at 1/3
+    assert not math.isnan(transport.maxwell_coefficients(0.34, d=2)["mu"])
 
 
 def test_hard_sphere_first_sonine_values_of_the_reference():
