@@ -199,13 +199,13 @@ struct InProgress {
 
 std::string in_progress_group(std::uint64_t e) { return "/in_progress/" + std::to_string(e); }
 
-bool out_has_histogram(const std::vector<std::unique_ptr<Observer>>& observers) {
+using Observers = std::vector<std::unique_ptr<Observer>>;
+
+bool has_radial_histogram(const Observers& observers) {
   for (const auto& o : observers)
     if (std::string(o->name()) == "histogram") return true;
   return false;
 }
-
-using Observers = std::vector<std::unique_ptr<Observer>>;
 
 void save_in_progress(H5Writer& out, std::uint64_t e, const InProgress& w,
                       const Observers& observers) {
@@ -213,7 +213,7 @@ void save_in_progress(H5Writer& out, std::uint64_t e, const InProgress& w,
   w.ensemble->save(out, g);
   for (std::size_t k = 0; k < observers.size(); ++k) observers[k]->save(out, g, w.observed[k]);
   // Checkpoints have always held the radial histogram's rows, empty without dsmc.histogram.
-  if (!out_has_histogram(observers)) {
+  if (!has_radial_histogram(observers)) {
     out.write(g + "/histogram", std::vector<std::uint64_t>{}, {0});
     if (w.ensemble->weighted()) out.write(g + "/histogram_weight", std::vector<double>{}, {0});
   }
@@ -498,7 +498,7 @@ void write_observable(Presenter& out, const std::string& prefix, const Observabl
   const std::string g = prefix + "/" + o.name;
   const std::string what = std::string(o.description) + (scalar_rows ? "" : "; per row t_m");
   out.write(g + "/mean", mean, dims, what + ": mean over the ensembles");
-  out.write(g + "/ci", ci, dims, what + ": confidence half-width (lambda_p = 3.2)");
+  out.write(g + "/ci", ci, dims, what + ": confidence half-width (lambda_p: root attribute confidence_lambda_p)");
   out.write(g + "/variance", var, dims, what + ": variance over the ensembles");
   out.attr(g, "description", std::string(o.description));
 }
