@@ -139,7 +139,8 @@ TEST(SteadyCi, OutputsCarrySigmaAndTheEstimatorAndIndependentKeepsTheOtherDatase
     const bool estimator_only = name.rfind("/steady/", 0) == 0 &&
                                 (name.size() > 3 && (name.substr(name.size() - 3) == "/ci" ||
                                                      name.substr(name.size() - 6) == "/sigma"));
-    if (estimator_only) continue;
+    // The manifest lists what each output presents: the independent one its batch subgroups too.
+    if (estimator_only || name.rfind("/manifest/", 0) == 0) continue;
     EXPECT_EQ(b.read_bytes(name), i.read_bytes(name)) << name;
   }
 }

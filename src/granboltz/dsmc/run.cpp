@@ -10,6 +10,7 @@
 #include "granboltz/config/reader.hpp"
 #include "granboltz/dsmc/engine.hpp"
 #include "granboltz/dsmc/observables.hpp"
+#include "granboltz/dsmc/observers/registry.hpp"
 #include "granboltz/exec/safe_points.hpp"
 #include "granboltz/stats/blocking.hpp"
 #include "granboltz/stats/delta_method.hpp"
@@ -112,10 +113,14 @@ Record dsmc_layout(const DsmcRunConfig& config) {
   const DsmcConfig& d = config.dsmc;
   const std::uint64_t rows = d.observations() + 1;
   Record r;
+  // The observers' sums go between the whole gas's own at their phases (LayoutPhase), so that
+  // the order of every existing output and checkpoint stays.
+  const auto observers = make_observers(d);
+  auto declare = [&](LayoutPhase phase) {
+    for (const auto& o : observers) o->declare(r, phase);
+  };
   r.declare_moments("series", rows * kNumScalars);
-  const std::uint64_t K1 = d.histogram.shells ? d.histogram.shells + 1 : 0;
-  const bool component = K1 && d.histogram.component;
-  if (K1) r.declare_counts("histogram", rows * K1);
+  declare(LayoutPhase::kRows);
   if (d.steady) {
     r.declare_moments("steady", kNumScalars);
     r.declare_total("steady_samples");
@@ -125,9 +130,7 @@ Record dsmc_layout(const DsmcRunConfig& config) {
   if (P) r.declare_moments("moment_series", rows * P);
   if (P && d.steady) r.declare_moments("moment_steady", P);
   for (const ColumnSpec& c : kColumns) r.declare_column(c.path, c.floating);
-  // The steady-state histogram: per ensemble the time average of f_k over the steady rows, so
-  // that its confidence interval comes from independent ensembles, not from correlated rows.
-  if (d.steady && K1) r.declare_moments("histogram_steady", K1);
+  declare(LayoutPhase::kSteadyAverages);
   if (d.steady) {
     // Consecutive rows of an ensemble are correlated: per ensemble its time average of every
     // scalar and speed moment, and for each blocking level the blocked variance of that average.
@@ -142,24 +145,16 @@ Record dsmc_layout(const DsmcRunConfig& config) {
     r.declare_moments("moment_cross", rows * C);
     if (d.steady) r.declare_moments("steady_moment_cross", C);
   }
+  declare(LayoutPhase::kWeights);
   if (d.weights.swpm) {
-    // SWPM: the histogram's weight per shell (f_k itself), beside the particle numbers above.
-    if (K1) r.declare_moments("histogram_weight", rows * K1);
     r.declare_column("/events/reductions", false);
     r.declare_column("/events/particles_final", false);
     // The Gaussian thermostat: per ensemble the mean cooling rate over the steady window (or the
-    // whole run), and its sums over the ensembles for /steady/cooling_rate.
-    if (d.thermostat == Thermostat::kGaussian) {
-      r.declare_column("/events/cooling_rate", true);
-      r.declare_moments("cooling_rate", 1);
-    }
+    // whole run); its sums are the cooling-rate observer's.
+    if (d.thermostat == Thermostat::kGaussian) r.declare_column("/events/cooling_rate", true);
   }
-  // The histogram of (v - V)_x: after the others, so that their layout stays.
-  if (component) {
-    r.declare_counts("histogram_component", rows * K1);
-    if (d.steady) r.declare_moments("histogram_component_steady", K1);
-    if (d.weights.swpm) r.declare_moments("histogram_component_weight", rows * K1);
-  }
+  declare(LayoutPhase::kCoolingRate);
+  declare(LayoutPhase::kComponent);
   // The general gas: each species' rows, the rotational temperature, per-species events.
   for (const RowSet& s : extra_row_sets(d)) declare_row_set(r, d, s);
   if (d.species_written)
@@ -170,6 +165,7 @@ Record dsmc_layout(const DsmcRunConfig& config) {
     r.declare_moments(x.prefix + "cross", rows);
     if (d.steady) r.declare_moments(x.prefix + "steady_cross", 1);
   }
+  declare(LayoutPhase::kAppended);
   return r;
 }
 
@@ -181,10 +177,7 @@ struct InProgress {
   std::uint64_t next = 0;              // the next observation index m
   std::vector<Observation> obs;        // [rows]
   std::vector<double> moments;         // [rows * P]: <|v - V|^{2p}>, p = 1..P
-  std::vector<std::uint64_t> hist;     // [rows * K1]: particles per shell
-  std::vector<double> whist;           // weighted: [rows * K1] weight per shell
-  std::vector<std::uint64_t> comp;     // histogram.component: [rows * K1] particles per bin
-  std::vector<double> wcomp;           // weighted, histogram.component: [rows * K1] weight per bin
+  std::vector<ObserverRows> observed;  // one per observer (make_observers)
   // The general gas: for each of extra_row_sets(), [rows * width] scalars and [rows * P] moments.
   std::vector<std::vector<double>> xobs, xmoments;
 };
@@ -206,12 +199,23 @@ struct InProgress {
 
 std::string in_progress_group(std::uint64_t e) { return "/in_progress/" + std::to_string(e); }
 
-void save_in_progress(H5Writer& out, std::uint64_t e, const InProgress& w) {
+using Observers = std::vector<std::unique_ptr<Observer>>;
+
+bool has_radial_histogram(const Observers& observers) {
+  for (const auto& o : observers)
+    if (std::string(o->name()) == "histogram") return true;
+  return false;
+}
+
+void save_in_progress(H5Writer& out, std::uint64_t e, const InProgress& w,
+                      const Observers& observers) {
   const std::string g = in_progress_group(e);
   w.ensemble->save(out, g);
-  if (w.ensemble->weighted()) {
-    out.write(g + "/histogram_weight", w.whist, {w.whist.size()});
-    if (!w.wcomp.empty()) out.write(g + "/histogram_component_weight", w.wcomp, {w.wcomp.size()});
+  for (std::size_t k = 0; k < observers.size(); ++k) observers[k]->save(out, g, w.observed[k]);
+  // Checkpoints have always held the radial histogram's rows, empty without dsmc.histogram.
+  if (!has_radial_histogram(observers)) {
+    out.write(g + "/histogram", std::vector<std::uint64_t>{}, {0});
+    if (w.ensemble->weighted()) out.write(g + "/histogram_weight", std::vector<double>{}, {0});
   }
   for (std::size_t k = 0; k < w.xobs.size(); ++k) {
     const std::string x = g + "/row_set_" + std::to_string(k);
@@ -235,26 +239,18 @@ void save_in_progress(H5Writer& out, std::uint64_t e, const InProgress& w) {
               std::vector<double>(w.moments.begin(),
                                   w.moments.begin() + static_cast<std::ptrdiff_t>(w.next * P)),
               {w.next, P});
-  out.write(g + "/histogram", w.hist, {w.hist.size()});
-  if (!w.comp.empty()) out.write(g + "/histogram_component", w.comp, {w.comp.size()});
   out.attr(g, "next_observation", w.next);
 }
 
 InProgress load_in_progress(const DsmcConfig& d, const H5Reader& in, std::uint64_t e,
-                            std::uint64_t rows, std::uint64_t K1, ProgressSlot* slot) {
+                            std::uint64_t rows, const Observers& observers, ProgressSlot* slot) {
   const std::string g = in_progress_group(e);
   InProgress w;
   w.ensemble = restore_ensemble(d, in, g, slot);
-  if (w.ensemble->weighted()) {
-    w.whist = in.read_double(g + "/histogram_weight");
-    if (w.whist.size() != rows * K1)
-      throw std::runtime_error(in.path() + ": malformed ensemble state " + g);
-  }
+  for (const auto& o : observers) w.observed.push_back(o->load(in, g, w.ensemble->weighted()));
   w.next = in.attr_uint64(g, "next_observation");
   const auto obs = in.read_double(g + "/observations");
-  w.hist = in.read_uint64(g + "/histogram");
-  if (w.next == 0 || w.next > rows || obs.size() != w.next * kNumScalars ||
-      w.hist.size() != rows * K1)
+  if (w.next == 0 || w.next > rows || obs.size() != w.next * kNumScalars)
     throw std::runtime_error(in.path() + ": malformed ensemble state " + g);
   w.obs.resize(rows);
   for (std::uint64_t m = 0; m < w.next; ++m)
@@ -285,13 +281,6 @@ InProgress load_in_progress(const DsmcConfig& d, const H5Reader& in, std::uint64
       const auto mm = in.read_double(x + "/moment_observations");
       std::copy(mm.begin(), mm.end(), w.xmoments[k].begin());
     }
-  }
-  if (K1 && d.histogram.component) {
-    w.comp = in.read_uint64(g + "/histogram_component");
-    const bool weighted = w.ensemble->weighted();
-    if (weighted) w.wcomp = in.read_double(g + "/histogram_component_weight");
-    if (w.comp.size() != rows * K1 || (weighted && w.wcomp.size() != rows * K1))
-      throw std::runtime_error(in.path() + ": malformed ensemble state " + g);
   }
   return w;
 }
@@ -396,9 +385,10 @@ void run_dsmc(const DsmcRunConfig& config, const DriverOptions& options, Record&
   const DsmcConfig& d = config.dsmc;
   const std::vector<double> times = dsmc_times(d);
   const std::uint64_t rows = times.size();
-  const std::uint64_t K1 = d.histogram.shells ? d.histogram.shells + 1 : 0;
   const double steady_after = d.steady_from + 1e-9 * d.observe_every;
   const auto P = static_cast<std::uint64_t>(d.moments);
+  const Observers observers = make_observers(d);
+  const RunRows run_rows{times, steady_after};
 
   // Ensembles saved in progress by an interrupted run come first, then those not yet started.
   std::vector<std::uint64_t> todo, resumed;
@@ -418,7 +408,7 @@ void run_dsmc(const DsmcRunConfig& config, const DriverOptions& options, Record&
   const DriverOptions opts =
       safe.options(options, [&](const std::map<std::uint64_t, const InProgress*>& parked) {
         options.checkpoint(record, [&](H5Writer& out) {
-          for (const auto& [e, w] : parked) save_in_progress(out, e, *w);
+          for (const auto& [e, w] : parked) save_in_progress(out, e, *w, observers);
         });
       });
 
@@ -427,21 +417,16 @@ void run_dsmc(const DsmcRunConfig& config, const DriverOptions& options, Record&
     SafePoints<InProgress>::Member member(safe);
     if (checkpoint_has(resumed, e)) {
       std::lock_guard<std::mutex> lock(safe.mutex());  // HDF5 (serial build) is not thread-safe
-      w = load_in_progress(d, *checkpoint, e, rows, K1, &slot);
+      w = load_in_progress(d, *checkpoint, e, rows, observers, &slot);
     } else {
       w.ensemble = make_ensemble(d, config.seed, e, &slot);
-      if (w.ensemble->weighted()) w.whist.assign(rows * K1, 0.0);
+      for (const auto& o : observers) w.observed.push_back(o->start(w.ensemble->weighted()));
       for (const RowSet& x : extra_row_sets(d)) {
         w.xobs.emplace_back(rows * x.width, 0.0);
         w.xmoments.emplace_back(rows * x.P, 0.0);
       }
       w.obs.resize(rows);
       w.moments.assign(rows * P, 0.0);
-      w.hist.assign(rows * K1, 0);
-      if (K1 && d.histogram.component) {
-        w.comp.assign(rows * K1, 0);
-        if (w.ensemble->weighted()) w.wcomp.assign(rows * K1, 0.0);
-      }
     }
     Ensemble& ens = *w.ensemble;
     for (; w.next < rows; ++w.next) {
@@ -454,15 +439,12 @@ void run_dsmc(const DsmcRunConfig& config, const DriverOptions& options, Record&
         row.rows.push_back(w.xobs[k].data() + m * (w.xobs[k].size() / rows));
         row.row_moments.push_back(w.xmoments[k].data() + m * (w.xmoments[k].size() / rows));
       }
-      if (K1) {
-        row.histogram = &w.hist[m * K1];
-        if (!w.whist.empty()) row.histogram_weight = &w.whist[m * K1];
-      }
-      if (!w.comp.empty()) {
-        row.component = &w.comp[m * K1];
-        if (!w.wcomp.empty()) row.component_weight = &w.wcomp[m * K1];
-      }
       w.obs[m] = ens.observe(d, row);
+      if (!observers.empty()) {
+        const ParticleView view = ens.view();
+        const ObservedRow observed{view, w.obs[m], m};
+        for (std::size_t k = 0; k < observers.size(); ++k) observers[k]->observe(observed, w.observed[k]);
+      }
       // An engine's own time averages (the weighted engine's cooling rate) run over the rows the
       // steady observables use: from the last row outside that window on.
       if (!(times[m] > steady_after)) ens.mark_window();
@@ -484,35 +466,8 @@ void run_dsmc(const DsmcRunConfig& config, const DriverOptions& options, Record&
       }
       add_ratios(d, times, rows_of, width, record);
     }
-    // A histogram's per-ensemble steady average of f_k and, for SWPM, its weights per row.
-    const bool weighted = ens.weighted();
-    auto add_histogram = [&](const std::string& name, const std::vector<std::uint64_t>& hist,
-                             const std::vector<double>& whist) {
-      record.add_counts(name, hist);
-      if (d.steady) {
-        std::vector<double> avg(K1, 0.0);
-        double steady_rows = 0.0;
-        for (std::uint64_t m = 0; m < rows; ++m) {
-          if (!(times[m] > steady_after)) continue;
-          steady_rows += 1.0;
-          for (std::uint64_t k = 0; k < K1; ++k)
-            avg[k] += weighted ? whist[m * K1 + k]
-                                 : static_cast<double>(hist[m * K1 + k]) /
-                                       static_cast<double>(d.particles);
-        }
-        auto& hs = record.moments(name + "_steady");
-        for (std::uint64_t k = 0; k < K1; ++k) hs[k].add(avg[k] / steady_rows);
-      }
-      if (weighted) {
-        auto& hw = record.moments(name + "_weight");
-        for (std::size_t k = 0; k < whist.size(); ++k) hw[k].add(whist[k]);
-      }
-    };
-    if (K1) add_histogram("histogram", w.hist, w.whist);
-    if (!w.comp.empty()) add_histogram("histogram_component", w.comp, w.wcomp);
-    // The cooling rate's sums are declared with the weighted engine's Gaussian column.
-    if (weighted && d.thermostat == Thermostat::kGaussian)
-      record.moments("cooling_rate")[0].add(ens.mean_cooling_rate());
+    for (std::size_t k = 0; k < observers.size(); ++k)
+      observers[k]->accumulate(run_rows, w.observed[k], ens, record);
     record.add_ensemble(e, ens.event_columns());
   });
 }
@@ -526,7 +481,7 @@ Dims shape_of(const ObservableInfo& o, std::uint64_t rows) {
 }
 
 /// Writes mean, ci and variance of observable `o` from sums laid out as [rows][stride].
-void write_observable(H5Writer& out, const std::string& prefix, const ObservableInfo& o,
+void write_observable(Presenter& out, const std::string& prefix, const ObservableInfo& o,
                       const std::vector<Moments2>& sums, std::uint64_t stride, std::uint64_t rows,
                       std::uint64_t samples, bool scalar_rows) {
   const int size = observable_size(o);
@@ -541,16 +496,17 @@ void write_observable(H5Writer& out, const std::string& prefix, const Observable
   Dims dims = shape_of(o, rows);
   if (scalar_rows) dims.erase(dims.begin());
   const std::string g = prefix + "/" + o.name;
-  out.write(g + "/mean", mean, dims);
-  out.write(g + "/ci", ci, dims);
-  out.write(g + "/variance", var, dims);
+  const std::string what = std::string(o.description) + (scalar_rows ? "" : "; per row t_m");
+  out.write(g + "/mean", mean, dims, what + ": mean over the ensembles");
+  out.write(g + "/ci", ci, dims, what + ": confidence half-width (lambda_p: root attribute confidence_lambda_p)");
+  out.write(g + "/variance", var, dims, what + ": variance over the ensembles");
   out.attr(g, "description", std::string(o.description));
 }
 
 /// The /steady group of one observable: mean, ci, variance as write_observable, plus sigma and
 /// the estimator's attributes (the largest tau_int over the components, the smallest N_eff).
 /// With steady_ci: independent the batch estimator's sigma and ci follow in a `batch` subgroup.
-void write_steady_observable(H5Writer& out, const DsmcRunConfig& config, const Record& record,
+void write_steady_observable(Presenter& out, const DsmcRunConfig& config, const Record& record,
                              const ObservableInfo& o, std::uint64_t base, const RowSet& set) {
   const int size = observable_size(o);
   const std::string g = "/steady" + set.group + "/" + std::string(o.name);
@@ -575,17 +531,19 @@ void write_steady_observable(H5Writer& out, const DsmcRunConfig& config, const R
       estimator = s.estimator;
     }
     if (group == g) {
-      out.write(g + "/mean", mean, dims);
-      out.write(g + "/ci", ci, dims);
-      out.write(g + "/variance", var, dims);
+      const std::string what = std::string(o.description) + "; steady average over t_m > steady_from";
+      out.write(g + "/mean", mean, dims, what + ": mean");
+      out.write(g + "/ci", ci, dims, what + ": confidence half-width");
+      out.write(g + "/variance", var, dims, what + ": variance");
       out.attr(g, "description", std::string(o.description));
     } else {
-      out.write(group + "/ci", ci, dims);
+      out.write(group + "/ci", ci, dims,
+                "the batch estimator's confidence half-width of " + g + "/mean");
       out.attr(group, "description",
                std::string("the batch estimator's interval (dsmc.steady_ci: batch), which "
                            "accounts for the correlation of consecutive rows"));
     }
-    out.write(group + "/sigma", sigma, dims);
+    out.write(group + "/sigma", sigma, dims, "the standard error of " + g + "/mean (" + estimator + ")");
     out.attr(group, "estimator", std::string(estimator));
     out.attr(group, "tau_int", tau);
     out.attr(group, "effective_samples", neff);
@@ -597,7 +555,7 @@ void write_steady_observable(H5Writer& out, const DsmcRunConfig& config, const R
   if (config.dsmc.steady_ci_independent) write(g + "/batch", true);
 }
 
-void write_moments(H5Writer& out, const std::string& prefix, const std::vector<Moments2>& sums,
+void write_moments(Presenter& out, const std::string& prefix, const std::vector<Moments2>& sums,
                    std::uint64_t rows, std::uint64_t samples, bool scalar_rows) {
   for (const auto& o : kObservables)
     write_observable(out, prefix, o, sums, kNumScalars, rows, samples, scalar_rows);
@@ -618,7 +576,7 @@ struct SpeedMoment {
 };
 
 /// The speed moments moment_2 ... moment_2P, from sums laid out as [rows][P].
-void write_speed_moments(H5Writer& out, const std::string& prefix,
+void write_speed_moments(Presenter& out, const std::string& prefix,
                          const std::vector<Moments2>& sums, std::uint64_t P, std::uint64_t rows,
                          std::uint64_t samples, bool scalar_rows) {
   for (std::uint64_t k = 0; k < P; ++k)
@@ -646,7 +604,7 @@ const char* const kA3Description2 =
     "speed moments (d = 2); ci by the delta method over the ensembles; bias: the ratio "
     "estimator's leading 1/N bias (second-order delta method), not subtracted from mean";
 
-void write_sonine(H5Writer& out, const DsmcRunConfig& config, const Record& record,
+void write_sonine(Presenter& out, const DsmcRunConfig& config, const Record& record,
                   const RowSet& set) {
   const DsmcConfig& d = config.dsmc;
   const std::uint64_t P = set.P;
@@ -669,14 +627,14 @@ void write_sonine(H5Writer& out, const DsmcRunConfig& config, const Record& reco
     a3bias[m] = s.bias_a3;
   }
   const std::string a2g = set.group + "/a2", a3g = set.group + "/a3";
-  out.write(a2g + "/mean", a2, {rows});
-  out.write(a2g + "/ci", a2ci, {rows});
-  out.write(a2g + "/bias", a2bias, {rows});
+  out.write(a2g + "/mean", a2, {rows}, a2_text + "; per row t_m: mean");
+  out.write(a2g + "/ci", a2ci, {rows}, "confidence half-width of " + a2g + "/mean");
+  out.write(a2g + "/bias", a2bias, {rows}, "the leading 1/N bias of " + a2g + "/mean");
   out.attr(a2g, "description", a2_text);
   if (P >= 3) {
-    out.write(a3g + "/mean", a3, {rows});
-    out.write(a3g + "/ci", a3ci, {rows});
-    out.write(a3g + "/bias", a3bias, {rows});
+    out.write(a3g + "/mean", a3, {rows}, a3_text + "; per row t_m: mean");
+    out.write(a3g + "/ci", a3ci, {rows}, "confidence half-width of " + a3g + "/mean");
+    out.write(a3g + "/bias", a3bias, {rows}, "the leading 1/N bias of " + a3g + "/mean");
     out.attr(a3g, "description", a3_text);
   }
   if (!d.steady) return;
@@ -687,10 +645,12 @@ void write_sonine(H5Writer& out, const DsmcRunConfig& config, const Record& reco
   for (int which = 2; which <= (P >= 3 ? 3 : 2); ++which) {
     const std::string g = "/steady" + set.group + "/a" + std::to_string(which);
     const double sigma = N >= 2 ? std::sqrt(which == 2 ? s.var_a2 : s.var_a3) : NAN;
-    out.write(g + "/mean", std::vector<double>{which == 2 ? s.a2 : s.a3}, {});
-    out.write(g + "/sigma", std::vector<double>{sigma}, {});
-    out.write(g + "/ci", std::vector<double>{factor * sigma}, {});
-    out.write(g + "/bias", std::vector<double>{which == 2 ? s.bias_a2 : s.bias_a3}, {});
+    const std::string what = (which == 2 ? a2_text : a3_text) + "; steady, from the ensembles' time averages";
+    out.write(g + "/mean", std::vector<double>{which == 2 ? s.a2 : s.a3}, {}, what + ": mean");
+    out.write(g + "/sigma", std::vector<double>{sigma}, {}, "the standard error of " + g + "/mean");
+    out.write(g + "/ci", std::vector<double>{factor * sigma}, {}, "confidence half-width of " + g + "/mean");
+    out.write(g + "/bias", std::vector<double>{which == 2 ? s.bias_a2 : s.bias_a3}, {},
+              "the leading 1/N bias of " + g + "/mean");
     out.attr(g, "description", which == 2 ? a2_text : a3_text);
     out.attr(g, "estimator", std::string("ensembles"));
     out.attr(g, "samples", record.total("steady_samples"));
@@ -729,68 +689,13 @@ SteadyStats steady_stats(const DsmcRunConfig& config, const Record& record, cons
 }
 
 namespace {
-
-/// A histogram's /<name> group (edges, mean, ci, counts per row) and, with steady_from, its
-/// /steady/<name> group, from the accumulators <name>, <name>_steady and, for SWPM, <name>_weight.
-void write_histogram(H5Writer& out, const DsmcRunConfig& config, const Record& record,
-                     const std::string& name, const std::vector<double>& edges,
-                     const char* description) {
-  const DsmcConfig& d = config.dsmc;
-  const std::uint64_t rows = d.observations() + 1, N = record.ensembles(), K1 = edges.size();
-  const auto& counts = record.counts(name);
-  const auto& counts_sq = record.counts_sq(name);
-  std::vector<double> mean(rows * K1), ci(rows * K1);
-  const double n = static_cast<double>(d.particles), Nd = static_cast<double>(N);
-  if (d.weights.swpm) {  // f_k = the weight in shell k, from exact sums over ensembles
-    const auto& hw = record.moments(name + "_weight");
-    for (std::size_t k = 0; k < mean.size(); ++k) {
-      const MeanCi s = hw[k].stats(N);
-      mean[k] = s.mean;
-      ci[k] = s.ci;
-    }
-  }
-  for (std::size_t k = 0; k < mean.size() && !d.weights.swpm; ++k) {
-    const double f = static_cast<double>(counts[k]) / (n * Nd);
-    const double f2 = static_cast<double>(counts_sq[k]) / (n * n * Nd);
-    mean[k] = f;
-    ci[k] = kLambdaP * std::sqrt(std::max(0.0, f2 - f * f) / Nd);
-  }
-  const std::string g = "/" + name;
-  out.write(g + "/edges", edges, {K1});
-  out.write(g + "/mean", mean, {rows, K1});
-  out.write(g + "/ci", ci, {rows, K1});
-  out.write(g + "/counts", counts, {rows, K1});
-  out.attr(g, "description", std::string(description));
-  out.attr(g, "center", std::string(d.histogram.bulk || name != "histogram" ? "bulk" : "origin"));
-  if (!d.steady) return;
-  const auto& hs = record.moments(name + "_steady");
-  std::vector<double> smean(hs.size()), sci(hs.size());
-  for (std::size_t k = 0; k < hs.size(); ++k) {
-    const MeanCi s = hs[k].stats(N);
-    smean[k] = s.mean;
-    sci[k] = s.ci;
-  }
-  std::uint64_t steady_rows = 0;
-  for (double t : dsmc_times(d)) steady_rows += t > d.steady_from + 1e-9 * d.observe_every;
-  out.write("/steady" + g + "/mean", smean, {smean.size()});
-  out.write("/steady" + g + "/ci", sci, {sci.size()});
-  out.attr("/steady" + g, "rows", steady_rows);
-  out.attr("/steady" + g, "description",
-           std::string("f_k averaged over the observation times t_m > steady_from in each "
-                       "ensemble; mean and confidence half-width over the ensembles (edges: ") +
-               g + "/edges)");
-}
-
-}  // namespace
-
-namespace {
 const ObservableInfo kRotational{"temperature_rotational", 0, 0,
                                  "T_rot = sum_j I_j |omega_j|^2 / (n d_rot), d_rot = 3 (d = 3) or 1 "
                                  "(d = 2): the rotational temperature of rough particles"};
 
 /// The datasets of a row set beyond the first: a species' group /species/<name> (and under
 /// /steady), or /temperature_rotational.
-void present_row_set(H5Writer& out, const DsmcRunConfig& config, const Record& record,
+void present_row_set(Presenter& out, const DsmcRunConfig& config, const Record& record,
                      const RowSet& set) {
   const DsmcConfig& d = config.dsmc;
   const std::uint64_t rows = d.observations() + 1, N = record.ensembles();
@@ -821,7 +726,7 @@ void present_row_set(H5Writer& out, const DsmcRunConfig& config, const Record& r
 
 /// The datasets of one ratio (ratio_sets): <group>/{mean,ci,bias} [M+1] and with steady_from
 /// /steady<group>/{mean,sigma,ci,bias}, as a2's.
-void write_ratio(H5Writer& out, const DsmcRunConfig& config, const Record& record,
+void write_ratio(Presenter& out, const DsmcRunConfig& config, const Record& record,
                  const RatioSet& r) {
   const DsmcConfig& d = config.dsmc;
   const std::uint64_t rows = d.observations() + 1, N = record.ensembles();
@@ -858,9 +763,9 @@ void write_ratio(H5Writer& out, const DsmcRunConfig& config, const Record& recor
     out.attr(g, "numerator", r.numerator);
     out.attr(g, "denominator", r.denominator);
   };
-  out.write(r.group + "/mean", mean, {rows});
-  out.write(r.group + "/ci", ci, {rows});
-  out.write(r.group + "/bias", bias, {rows});
+  out.write(r.group + "/mean", mean, {rows}, what + "; per row t_m: the ratio of the means");
+  out.write(r.group + "/ci", ci, {rows}, "confidence half-width of " + r.group + "/mean");
+  out.write(r.group + "/bias", bias, {rows}, "the leading 1/N bias of " + r.group + "/mean");
   attrs(r.group, how);
   if (!d.steady) return;
   // Each ensemble's time averages over the steady rows are one independent sample (as /steady/a2,
@@ -873,11 +778,12 @@ void write_ratio(H5Writer& out, const DsmcRunConfig& config, const Record& recor
                                       y, record.moments(r.prefix + "steady_cross")[0], N, true);
   const double sigma = N >= 2 ? std::sqrt(s.variance) : NAN;
   const std::string g = "/steady" + r.group;
-  out.write(g + "/mean", std::vector<double>{s.mean}, {});
-  out.write(g + "/sigma", std::vector<double>{sigma}, {});
+  out.write(g + "/mean", std::vector<double>{s.mean}, {}, what + "; steady: the ratio of the steady means");
+  out.write(g + "/sigma", std::vector<double>{sigma}, {}, "the standard error of " + g + "/mean");
   const double factor = confidence_factor(static_cast<double>(N) - 1);
-  out.write(g + "/ci", std::vector<double>{factor * sigma}, {});
-  out.write(g + "/bias", std::vector<double>{N >= 2 ? s.bias : NAN}, {});
+  out.write(g + "/ci", std::vector<double>{factor * sigma}, {}, "confidence half-width of " + g + "/mean");
+  out.write(g + "/bias", std::vector<double>{N >= 2 ? s.bias : NAN}, {},
+            "the leading 1/N bias of " + g + "/mean");
   attrs(g, steady_how);
   out.attr(g, "estimator", std::string("ensembles"));
   out.attr(g, "samples", S);
@@ -885,38 +791,19 @@ void write_ratio(H5Writer& out, const DsmcRunConfig& config, const Record& recor
 }
 }  // namespace
 
-void present_dsmc(H5Writer& out, const DsmcRunConfig& config, const Record& record) {
+void present_dsmc(H5Writer& file, const DsmcRunConfig& config, const Record& record) {
   const DsmcConfig& d = config.dsmc;
   const std::vector<double> times = dsmc_times(d);
   const std::uint64_t rows = times.size(), N = record.ensembles();
   const RowSet whole{"", "", kNumScalars, static_cast<std::uint64_t>(d.moments)};
-  out.write("/time", times, {rows});
+  Presenter out(file);
+  out.observer("time");
+  out.write("/time", times, {rows}, "the observation times t_m, m = 0..M");
+  out.observer("moments");
   write_moments(out, "", record.moments("series"), rows, N, false);
   const auto P = static_cast<std::uint64_t>(d.moments);
   if (P) write_speed_moments(out, "", record.moments("moment_series"), P, rows, N, false);
   out.attr("/", "confidence_lambda_p", kLambdaP);
-
-  if (d.histogram.shells) {
-    const std::uint64_t K1 = d.histogram.shells + 1;
-    std::vector<double> edges(K1);
-    for (std::uint64_t k = 0; k < K1; ++k)
-      edges[k] = d.histogram.radius * static_cast<double>(k) / static_cast<double>(K1 - 1);
-    write_histogram(out, config, record, "histogram", edges,
-                    d.histogram.bulk
-                        ? "f_k = fraction of particles with r_k <= |v - V(t)| < r_{k+1}, r_k = k R/K, "
-                          "V(t) the ensemble's bulk velocity (dsmc.histogram.center: bulk); the "
-                          "last shell holds |v - V| >= R"
-                        : "f_k = fraction of particles with r_k <= |v| < r_{k+1}, r_k = k R/K "
-                          "(GRW05 eq. 37); the last shell holds |v| >= R");
-    if (d.histogram.component) {
-      // K + 1 edges -R .. R of the K bins; the last bin of mean holds |(v - V)_x| >= R.
-      for (std::uint64_t k = 0; k < K1; ++k)
-        edges[k] = d.histogram.radius * (2.0 * static_cast<double>(k) / static_cast<double>(K1 - 1) - 1.0);
-      write_histogram(out, config, record, "histogram_component", edges,
-                      "f_k = fraction of particles with x_k <= (v - V(t))_x < x_{k+1}, x_k = -R + "
-                      "2 k R/K (dsmc.histogram.component); the last bin holds |(v - V)_x| >= R");
-    }
-  }
   if (d.steady) {
     const std::uint64_t samples = record.total("steady_samples");
     for (const auto& o : kObservables) write_steady_observable(out, config, record, o, 0, whole);
@@ -929,23 +816,18 @@ void present_dsmc(H5Writer& out, const DsmcRunConfig& config, const Record& reco
     out.attr("/steady", "samples", samples);
     out.attr("/steady", "from", d.steady_from);
   }
-  if (d.weights.swpm && d.thermostat == Thermostat::kGaussian) {
-    // zeta = -d ln T/dt of the collisions alone, which the thermostat undoes: per ensemble the
-    // mean over its steady window, here its mean and interval over the ensembles.
-    const std::string g = d.steady ? "/steady/cooling_rate" : "/cooling_rate";
-    const MeanCi z = record.moments("cooling_rate")[0].stats(N);
-    out.write(g + "/mean", std::vector<double>{z.mean}, {});
-    out.write(g + "/ci", std::vector<double>{z.ci}, {});
-    out.write(g + "/variance", std::vector<double>{z.variance}, {});
-    out.attr(g, "description",
-             std::string("zeta = -d ln T/dt: the rate at which inelastic collisions remove the "
-                         "energy E = sum g |v - V|^2 that the Gaussian thermostat restores, "
-                         "(energy lost per unit time)/E, averaged over (steady_from, t_end] in "
-                         "each ensemble; mean and ci over the ensembles"));
-  }
   write_sonine(out, config, record, whole);
-  for (const RowSet& set : extra_row_sets(d)) present_row_set(out, config, record, set);
+  for (const auto& o : make_observers(d)) {
+    out.observer(o->name());
+    o->present(out, record);
+  }
+  for (const RowSet& set : extra_row_sets(d)) {
+    out.observer(set.width == 1 ? "rotation" : "species");
+    present_row_set(out, config, record, set);
+  }
+  out.observer("ratios");
   for (const RatioSet& r : ratio_sets(d)) write_ratio(out, config, record, r);
+  out.write_manifest();
 }
 
 }  // namespace granboltz

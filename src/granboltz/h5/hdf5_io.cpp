@@ -309,7 +309,8 @@ void H5Writer::write_raw(const std::string& path, hid_t mem_type, hid_t file_typ
       total *= chunk[k];
     }
     H5Pset_chunk(dcpl.id, static_cast<int>(chunk.size()), chunk.data());
-    if (product(dims) >= 4096) H5Pset_deflate(dcpl.id, 4);
+    // Text (the manifest: fixed-length, mostly padding) is compressed whatever its size.
+    if (product(dims) >= 4096 || H5Tget_class(file_type) == H5T_STRING) H5Pset_deflate(dcpl.id, 4);
     H5Pset_fletcher32(dcpl.id);  // after deflate: the checksum is of the stored bytes
   }
   Handle ds{H5Dcreate2(file_, path.c_str(), file_type, space.id, lcpl.id, dcpl.id, H5P_DEFAULT),
@@ -336,6 +337,18 @@ void H5Writer::write(const std::string& path, const std::vector<std::int64_t>& d
                      const Dims& dims) {
   if (data.size() != product(dims)) fail("internal: size mismatch for " + path);
   write_raw(path, H5T_NATIVE_INT64, H5T_STD_I64LE, data.data(), dims);
+}
+
+void H5Writer::write(const std::string& path, const std::vector<std::string>& data) {
+  std::size_t width = 1;
+  for (const std::string& s : data) width = std::max(width, s.size());
+  std::vector<char> bytes(width * data.size(), '\0');
+  for (std::size_t k = 0; k < data.size(); ++k) std::copy(data[k].begin(), data[k].end(), &bytes[k * width]);
+  Handle type{H5Tcopy(H5T_C_S1), H5Tclose};
+  H5Tset_size(type.id, width);
+  H5Tset_strpad(type.id, H5T_STR_NULLPAD);
+  H5Tset_cset(type.id, H5T_CSET_UTF8);
+  write_raw(path, type.id, type.id, bytes.data(), {data.size()});
 }
 
 void H5Writer::attr(const std::string& object, const std::string& name, const std::string& value) {

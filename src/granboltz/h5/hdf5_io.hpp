@@ -48,6 +48,9 @@ class H5Writer {
   void write(const std::string& path, const std::vector<double>& data, const Dims& dims);
   void write(const std::string& path, const std::vector<std::uint64_t>& data, const Dims& dims);
   void write(const std::string& path, const std::vector<std::int64_t>& data, const Dims& dims);
+  /// Text as a 1-D dataset of fixed-length UTF-8 strings (null-padded to the longest): fixed
+  /// bytes, so that the digest covers it as any other dataset.
+  void write(const std::string& path, const std::vector<std::string>& data);
   void group(const std::string& path);
   /// Attributes of an existing object ("/" for the root).
   void attr(const std::string& object, const std::string& name, const std::string& value);

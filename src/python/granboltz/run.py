@@ -14,6 +14,8 @@
     run.theta, run.steady["theta"]   # rough spheres: theta = T_rot/T with its interval (granboltz.ratios)
     run.temperature_ratios["a_over_b"]  # mixtures: T_a/T_b per row; steady: run.steady["temperature_ratio/a_over_b"]
     run.config, run.provenance       # the resolved config; version, commit, threads, wall time, ...
+    run.manifest["/temperature/mean"]  # DSMC: every presented dataset's shape, meaning and observer
+                                     # (granboltz.manifest); None for files written before it existed
 
 A merged file (`granboltz merge`) is identical to the unsharded run and reads the same; a single
 shard is read too, but its means cover only its ensembles: run.shard gives (index, count) and
@@ -23,7 +25,8 @@ read_run raises granboltz.io.RunReadError, naming the file and the dataset or at
 anything that is not a complete output it can read: a file HDF5 cannot open or read (not HDF5,
 truncated, a checksum failure), a checkpoint, an HDF5 file of another program, and a dataset or
 attribute that every output of the file's model (and config) has but this file lacks, or has with
-the wrong shape, dtype or non-finite values. The layout checked is what the simulator writes
+the wrong shape, dtype or non-finite values; with a /manifest (DSMC outputs of newer simulators),
+a dataset it lists that is missing or has another shape, or a damaged manifest. The layout checked is what the simulator writes
 (src/granboltz/app/output.cpp, dsmc/run.cpp, tv06/run.cpp; docs/output.md, docs/tv06.md). A
 shard must have all of it too, for its own ensembles.
 """
@@ -38,11 +41,12 @@ from .intervals import Interval, read_fields, read_steady
 from .layout import F8, U8, Spec, check_provenance, config_section, dsmc_layout, shard_range, tv06_layout
 from . import frames
 from .histograms import LazyHistograms
+from .manifest import read_manifest
 from .reader import Reader
 from .species import read_species
 
 _HISTOGRAM_GROUPS = ("histogram", "histogram_component", "velocity_histogram", "omega_histogram")
-_NOT_OBSERVABLES = {"events", "steady", "accumulators", "provenance", "exact", "species"} | set(_HISTOGRAM_GROUPS)
+_NOT_OBSERVABLES = {"events", "steady", "accumulators", "provenance", "exact", "species", "manifest"} | set(_HISTOGRAM_GROUPS)
 
 
 @dataclass(frozen=True)
@@ -103,6 +107,9 @@ class Run:
     exact: dict
     provenance: dict
     species: dict = field(default_factory=dict)  # {name: granboltz.species.Species} of a mixture
+    # {path: granboltz.manifest.ManifestEntry} of every dataset the run presents (DSMC outputs
+    # with /manifest); None for TV06 outputs and files written before the manifest existed.
+    manifest: dict = None
 
     def __getattr__(self, name):
         observables = self.__dict__.get("observables", {})
@@ -291,6 +298,8 @@ def _read(reader, config, model):
 
     histograms = [g for g in _HISTOGRAM_GROUPS if g in layout["histograms"] or g in reader.names("/")]
     species = read_species(reader, layout.get("species"), section, n, int(section.get("particles", 0)))
+    manifest = read_manifest(reader)  # None: a file written before the manifest existed
     return Run(path=path, model=model, config=config, ensembles=ensembles, time=time, observables=observables,
                histograms=LazyHistograms(path, histograms, layout["histograms"]),
-               events=events, steady=steady, exact=exact, provenance=prov, species=species)
+               events=events, steady=steady, exact=exact, provenance=prov, species=species,
+               manifest=manifest)

@@ -1,0 +1,82 @@
+#pragma once
+// Slot C, observers: what a DSMC run measures at its observation rows. One class per file, each
+// declaring its record sums, observing the particle view of an ensemble (dsmc/engine.hpp) at a
+// row into per-ensemble rows that checkpoints keep, adding an ensemble's rows to the record, and
+// presenting its datasets (each listed in the output's manifest). dsmc/observers/registry.cpp
+// builds the observers a config needs, one line each; run.cpp schedules them generically.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "granboltz/dsmc/config.hpp"
+#include "granboltz/dsmc/engine.hpp"
+#include "granboltz/dsmc/observables.hpp"
+#include "granboltz/dsmc/observers/presenter.hpp"
+#include "granboltz/h5/hdf5_io.hpp"
+#include "granboltz/record/record.hpp"
+
+namespace granboltz {
+
+/// Where in the record an observer's sums are declared. The record's order fixes the layout of
+/// outputs and checkpoints, and it has grown by appending: the observers that were there before
+/// the slot existed keep their places between the run's own sums (dsmc_layout). A new observer
+/// declares in kAppended only, after everything else.
+enum class LayoutPhase {
+  kRows,               ///< after the whole gas's series
+  kSteadyAverages,     ///< after the event columns, before the whole gas's per-ensemble averages
+  kWeights,            ///< weighted particles, before the weighted engine's columns
+  kCoolingRate,        ///< after the weighted engine's columns
+  kComponent,          ///< after the weighted sums, before the general gas's row sets
+  kAppended,           ///< after everything: every observer added since
+};
+inline constexpr LayoutPhase kLayoutPhases[] = {
+    LayoutPhase::kRows,        LayoutPhase::kSteadyAverages, LayoutPhase::kWeights,
+    LayoutPhase::kCoolingRate, LayoutPhase::kComponent,      LayoutPhase::kAppended};
+
+/// One ensemble's rows of one observer: what it has observed so far (all rows allocated at the
+/// start), saved with the ensemble in a mid-run checkpoint.
+struct ObserverRows {
+  std::vector<std::uint64_t> counts;
+  std::vector<double> values;
+};
+
+/// What an observer sees at observation row m.
+struct ObservedRow {
+  const ParticleView& view;
+  const Observation& whole;  ///< the whole gas's scalars at this row (kObservables)
+  std::uint64_t m;
+};
+
+/// The rows of a run: the observation times and the start of the steady window.
+struct RunRows {
+  const std::vector<double>& times;
+  double steady_after;  ///< rows t_m > steady_after are steady (dsmc.steady_from)
+};
+
+class Observer {
+ public:
+  virtual ~Observer() = default;
+  Observer() = default;
+  Observer(const Observer&) = delete;
+  Observer& operator=(const Observer&) = delete;
+
+  /// Its name in the manifest's `observer` column.
+  virtual const char* name() const = 0;
+  /// Declares its sums of `phase` (most observers: kAppended only).
+  virtual void declare(Record& record, LayoutPhase phase) const = 0;
+  /// The rows of a new ensemble, zero. `weighted`: the engine's particles carry weights.
+  virtual ObserverRows start(bool weighted) const = 0;
+  /// Observes row m of one ensemble.
+  virtual void observe(const ObservedRow& row, ObserverRows& rows) const = 0;
+  /// The rows into an ensemble's checkpoint group, and back (std::runtime_error naming the file
+  /// and the group when they do not fit the config).
+  virtual void save(H5Writer& out, const std::string& group, const ObserverRows& rows) const = 0;
+  virtual ObserverRows load(const H5Reader& in, const std::string& group, bool weighted) const = 0;
+  /// Adds one finished ensemble to the record's exact sums (order-independent).
+  virtual void accumulate(const RunRows& run, const ObserverRows& rows, const Ensemble& ensemble,
+                          Record& record) const = 0;
+  /// Its datasets, from the record only.
+  virtual void present(Presenter& out, const Record& record) const = 0;
+};
+
+}  // namespace granboltz
