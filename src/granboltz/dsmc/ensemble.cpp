@@ -698,7 +698,7 @@ void DsmcEnsemble::visit_state(StateArchive& a) {
   const bool plane = c_.dimension == 2;
   visit_particles(a, "particles", p_, nullptr, c_.dimension, counts_between(n, n));
   // Drag and shear centre the majorant on 0 (the flights contract or shear about it).
-  const Range<double> centre = linear_ ? zero_if(true, "under drag or shear") : finite();
+  const Real centre = zero_if(linear_, "under drag or shear");
   a.pack("scalars", real("t", t_, within(0.0, c_.t_end, "t_end")), real("V_x", v0_.x, centre),
          real("V_y", v0_.y, centre),
          real("V_z", v0_.z, linear_ ? centre : zero_if(plane, "in dimension 2")),

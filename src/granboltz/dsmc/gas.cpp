@@ -482,15 +482,15 @@ void GasEnsemble::visit_state(StateArchive& a) {
   visit_particles(a, "particles", p_, nullptr, c_.dimension, counts_between(n, n));
   if (rough_) {
     if (a.reading()) w_.resize(n);
-    const Range<double> in_plane = zero_if(plane, "in dimension 2");  // a spin on the z axis
+    const Real in_plane = zero_if(plane, "in dimension 2");  // a spin on the z axis
     a.table<double>(
         "spins", n, 3, {in_plane, in_plane, finite()},
         [&](std::size_t i, std::size_t k) { return k == 0 ? w_[i].x : k == 1 ? w_[i].y : w_[i].z; },
         [&](std::size_t i, std::size_t k, double x) { (k == 0 ? w_[i].x : k == 1 ? w_[i].y : w_[i].z) = x; });
   }
   // Drag and shear centre the majorant on 0 (the flights contract or shear about it).
-  const Range<double> centre = c_.linear_flight() ? zero_if(true, "under drag or shear") : finite();
-  const Range<double> energy = gaussian_ ? positive() : finite();
+  const Real centre = zero_if(c_.linear_flight(), "under drag or shear");
+  const Real energy = gaussian_ ? positive() : finite();
   a.pack("scalars", real("t", t_, within(0.0, c_.t_end, "t_end")), real("V_x", v0_.x, centre),
          real("V_y", v0_.y, centre),
          real("V_z", v0_.z, c_.linear_flight() ? centre : zero_if(plane, "in dimension 2")),
@@ -506,7 +506,7 @@ void GasEnsemble::visit_state(StateArchive& a) {
   a.pack("counters", word("collisions", counts_.collisions), word("fictitious", counts_.fictitious),
          word("kicks", counts_.kicks));
   a.table<std::uint64_t>(
-      "species_collisions", K, 0, {any_count()},
+      "species_collisions", K, 0, {Count{}},
       [&](std::size_t i, std::size_t) { return species_collisions_[i]; },
       [&](std::size_t i, std::size_t, std::uint64_t x) { species_collisions_[i] = x; });
   // A bound below a particle's speed would make a probability exceed 1.

@@ -14,7 +14,7 @@ namespace granboltz {
 /// number within `count`. The times are checked against the ensemble's time by the caller (an
 /// each() after the time is read).
 inline void visit_particles(StateArchive& a, const std::string& name, Particles& p, std::vector<double>* weights,
-                     int dimension, const Range<std::uint64_t>& count) {
+                     int dimension, const Count& count) {
   const std::size_t cols = weights ? 5 : 4;
   const std::size_t n = a.rows(name, cols, p.size(), count);
   if (a.reading()) {

@@ -24,14 +24,18 @@
 
 namespace granboltz {
 
-/// The values a field may take: lo to hi, each end closed or open and named in messages
+/// The values a field may take: lo to hi, each end closed or open, the upper named in messages
 /// ("t_end"); a double must be finite besides.
 template <class T>
 struct Range {
-  T lo = std::numeric_limits<T>::lowest(), hi = std::numeric_limits<T>::max();
-  bool lo_open = false, hi_open = false;
+  static constexpr T kMin = std::numeric_limits<T>::lowest(), kMax = std::numeric_limits<T>::max();
+  T lo = kMin, hi = kMax;
   std::string hi_name, note;  // note: why a range is narrow ("in dimension 2")
+  bool lo_open = false, hi_open = false;
 
+  Range() = default;
+  Range(T l, T h, std::string name = "", std::string why = "", bool l_open = false, bool h_open = false)
+      : lo(l), hi(h), hi_name(std::move(name)), note(std::move(why)), lo_open(l_open), hi_open(h_open) {}
   bool contains(T x) const {
     if constexpr (std::is_floating_point_v<T>)
       if (!std::isfinite(x)) return false;
@@ -43,48 +47,30 @@ struct Range {
   }
   /// "in [0, t_end = 2]", ">= 0", "0 in dimension 2", "finite"
   std::string text() const {
-    const bool high = hi != std::numeric_limits<T>::max();
-    const bool low = lo != std::numeric_limits<T>::lowest() || (high && std::is_unsigned_v<T>);
-    std::string s;
+    const bool high = hi != kMax, low = lo != kMin || (high && std::is_unsigned_v<T>);
+    std::string s = std::is_floating_point_v<T> ? "finite" : "any";
     if (low && high && lo == hi) s = show(lo);
     else if (low && high)
       s = std::string("in ") + (lo_open ? "(" : "[") + show(lo) + ", " +
           (hi_name.empty() ? "" : hi_name + " = ") + show(hi) + (hi_open ? ")" : "]");
     else if (low) s = (lo_open ? "> " : ">= ") + show(lo);
-    else s = std::is_floating_point_v<T> ? "finite" : "any";
     return note.empty() ? s : s + " " + note;
   }
 };
 
-/// [lo, hi] (open where told), `hi_name` naming the upper end in messages.
-template <class T>
-Range<T> range(T lo, T hi, std::string hi_name = "", bool lo_open = false, bool hi_open = false) {
-  Range<T> r;
-  r.lo = lo, r.hi = hi, r.lo_open = lo_open, r.hi_open = hi_open, r.hi_name = std::move(hi_name);
-  return r;
-}
-inline Range<double> finite() { return {}; }
-inline Range<double> at_least(double lo) { return range(lo, std::numeric_limits<double>::max()); }
-inline Range<double> positive() { return range(0.0, std::numeric_limits<double>::max(), "", true); }
-inline Range<double> within(double lo, double hi, std::string hi_name = "") {
-  return range(lo, hi, std::move(hi_name));
-}
+using Real = Range<double>;
+using Count = Range<std::uint64_t>;
+inline Real finite() { return {}; }
+inline Real at_least(double lo) { return {lo, Real::kMax}; }
+inline Real positive() { return {0.0, Real::kMax, "", "", true}; }
+inline Real within(double lo, double hi, std::string hi_name = "") { return {lo, hi, std::move(hi_name)}; }
 /// 0 where `zero` holds (v_z in dimension 2: `why` says so), finite elsewhere.
-inline Range<double> zero_if(bool zero, std::string why) {
-  Range<double> r = zero ? range(0.0, 0.0) : finite();
-  if (zero) r.note = std::move(why);
-  return r;
-}
-inline Range<std::uint64_t> any_count() { return {}; }
+inline Real zero_if(bool zero, std::string why) { return zero ? Real{0.0, 0.0, "", std::move(why)} : finite(); }
 /// An index: [0, n).
-inline Range<std::uint64_t> below(std::uint64_t n, std::string name) {
-  return range<std::uint64_t>(0, n, std::move(name), false, true);
-}
-inline Range<std::uint64_t> up_to(std::uint64_t n, std::string name) {
-  return range<std::uint64_t>(0, n, std::move(name));
-}
-inline Range<std::uint64_t> counts_between(std::uint64_t lo, std::uint64_t hi, std::string hi_name = "") {
-  return range(lo, hi, std::move(hi_name));
+inline Count below(std::uint64_t n, std::string name) { return {0, n, std::move(name), "", false, true}; }
+inline Count up_to(std::uint64_t n, std::string name) { return {0, n, std::move(name)}; }
+inline Count counts_between(std::uint64_t lo, std::uint64_t hi, std::string hi_name = "") {
+  return {lo, hi, std::move(hi_name)};
 }
 
 /// One field of a packed dataset: its name in messages, the member and its range.
@@ -95,11 +81,11 @@ struct Field {
   Range<T> range;
 };
 template <class M>
-Field<double, M> real(const char* name, M& value, Range<double> range = finite()) {
+Field<double, M> real(const char* name, M& value, Real range = {}) {
   return {name, value, std::move(range)};
 }
 template <class M>
-Field<std::uint64_t, M> word(const char* name, M& value, Range<std::uint64_t> range = any_count()) {
+Field<std::uint64_t, M> word(const char* name, M& value, Count range = {}) {
   return {name, value, std::move(range)};
 }
 
@@ -142,7 +128,7 @@ class StateArchive {
   /// The number of rows of a table of `cols` columns whose length is part of the state
   /// (`current` when writing; read back, within `n`).
   std::size_t rows(const std::string& name, std::size_t cols, std::size_t current,
-                   const Range<std::uint64_t>& n) const {
+                   const Count& n) const {
     if (!in_) return current;
     const Dims d = dims(name);
     if (d.size() != 2 || d[1] != cols)
@@ -165,7 +151,7 @@ class StateArchive {
   /// Checks, when reading, against values declared later (a particle's time against the time):
   /// get(i) of `rows` values, named as column `col` of `name`, within r.
   template <class Get>
-  void each(const std::string& name, std::size_t rows, std::size_t col, Get get, const Range<double>& r) const {
+  void each(const std::string& name, std::size_t rows, std::size_t col, Get get, const Real& r) const {
     for (std::size_t i = 0; in_ && i < rows; ++i)
       check(name + "[" + std::to_string(i) + ", " + std::to_string(col) + "]", get(i), r);
   }
