@@ -324,13 +324,13 @@ TEST(HostileCheckpoints, EditedCheckpointsAreRefusedWithOneLine) {
        [&](const std::string& f) {
          edit_dataset<std::uint64_t>(f, ring, 0, 4000000000ull, H5T_NATIVE_UINT64);
        },
-       "a pair index out of range"},
+       "ring_index[0, 0] = 4000000000, not in [0, n = 4000)"},
       {"time NaN",
        [&](const std::string& f) { edit_dataset<double>(f, scalars, 0, std::nan(""), H5T_NATIVE_DOUBLE); },
-       "time outside [0, t_end]"},
+       "scalars[0] (t) = nan, not in [0, t_end = 200]"},
       {"time beyond t_end",
        [&](const std::string& f) { edit_dataset<double>(f, scalars, 0, 1e300, H5T_NATIVE_DOUBLE); },
-       "time outside [0, t_end]"},
+       "scalars[0] (t) = 1e+300, not in [0, t_end = 200]"},
       {"u_max changed",
        [&](const std::string& f) { edit_dataset<double>(f, scalars, 4, 123.0, H5T_NATIVE_DOUBLE); },
        nullptr},

@@ -17,7 +17,7 @@
 
 #include "granboltz/dsmc/particles_io.hpp"
 #include "granboltz/h5/hdf5_io.hpp"
-#include "granboltz/record/engine_io.hpp"
+#include "granboltz/record/state_archive.hpp"
 #include "test_support.hpp"
 
 using granboltz::H5Reader;
@@ -347,18 +347,23 @@ TEST(EditedState, ReadersRefuseZeroStreamsOtherDtypesAndShapesNamingTheDataset) 
     }
     return std::string("accepted");
   };
-  EXPECT_EQ(granboltz::read_engine(in, "/stream").draws(), 17u);  // any other state is fine
-  EXPECT_NE(message([&] { granboltz::read_engine(in, "/zero_stream"); })
-                .find(path + ": dataset /zero_stream: a random stream in the all-zero state"),
+  granboltz::StateArchive state(in, "");
+  granboltz::Engine e;
+  state.stream("stream", e);
+  EXPECT_EQ(e.draws(), 17u);  // any other state is fine
+  EXPECT_NE(message([&] { state.stream("zero_stream", e); })
+                .find(path + ": malformed ensemble state : dataset /zero_stream: a random stream in "
+                             "the all-zero state"),
             std::string::npos);
-  EXPECT_EQ(message([&] { granboltz::read_engine(in, "/flat"); }),
-            path + ": dataset /flat: malformed stream state (not 5 words)");
+  EXPECT_EQ(message([&] { state.stream("flat", e); }),
+            path + ": malformed ensemble state : dataset /flat: has shape (8,), not (5,)");
   granboltz::Particles p;
-  EXPECT_TRUE(granboltz::read_particles(in, "/rows", p));
+  const auto any = granboltz::counts_between(0, 1000);
+  granboltz::visit_particles(state, "rows", p, nullptr, 3, any);
   EXPECT_EQ(p.size(), 2u);
-  EXPECT_EQ(message([&] { granboltz::read_particles(in, "/flat", p); }),
-            path + ": dataset /flat: has shape (8,), not (n, 4)");
-  EXPECT_EQ(message([&] { granboltz::read_particles(in, "/integers", p); }),
+  EXPECT_EQ(message([&] { granboltz::visit_particles(state, "flat", p, nullptr, 3, any); }),
+            path + ": malformed ensemble state : dataset /flat: has shape (8,), not (n, 4)");
+  EXPECT_EQ(message([&] { granboltz::visit_particles(state, "integers", p, nullptr, 3, any); }),
             path + ": dataset /integers: has dtype int64, not float64");
   EXPECT_EQ(message([&] { in.read_uint64("/rows"); }),
             path + ": dataset /rows: has dtype float64, not uint64");

@@ -11,7 +11,6 @@
 #include "granboltz/physics/heating.hpp"
 #include "granboltz/physics/restitution/collide.hpp"
 #include "granboltz/random/samplers.hpp"
-#include "granboltz/record/engine_io.hpp"
 #include "granboltz/dsmc/initial_state.hpp"
 #include "granboltz/dsmc/particles_io.hpp"
 
@@ -681,64 +680,51 @@ bool DsmcEnsemble::advance_to(double s, const std::atomic<bool>* pause) {
 
 // ---- Checkpoints ----
 
-namespace {
-// An index stream as its buffer of (index, bits) rows, its position, and its lanes.
-void write_index_stream(H5Writer& out, const std::string& g, const IndexStream& s) {
-  std::vector<std::uint64_t> rows;
-  for (const IndexBits& x : s.buffer()) {
-    rows.push_back(x.i);
-    rows.push_back(x.bits);
-  }
-  out.write(g + "/buffer", rows, {IndexStream::kBuffer, 2});
-  out.write(g + "/position", std::vector<std::uint64_t>{s.position()}, {1});
-  for (unsigned l = 0; l < IndexStream::kLanes; ++l)
-    write_engine(out, g + "/lane_" + std::to_string(l), s.lane(l));
-}
-
-IndexStream read_index_stream(const H5Reader& in, const std::string& g, std::uint32_t range) {
-  const auto rows = in.read_uint64(g + "/buffer");
-  const auto position = in.read_uint64(g + "/position");
-  if (rows.size() != 2 * IndexStream::kBuffer || position.size() != 1 ||
-      position[0] > IndexStream::kBlock)
-    throw std::runtime_error(in.path() + ": malformed index stream " + g);
-  std::array<IndexBits, IndexStream::kBuffer> buffer;
-  for (unsigned k = 0; k < IndexStream::kBuffer; ++k) {
-    if (rows[2 * k] >= range || rows[2 * k + 1] > 0xFFFFFFFFu)
-      throw std::runtime_error(in.path() + ": malformed index stream " + g);
-    buffer[k] = {static_cast<std::uint32_t>(rows[2 * k]), static_cast<std::uint32_t>(rows[2 * k + 1])};
-  }
-  std::array<Engine, IndexStream::kLanes> lanes;
-  for (unsigned l = 0; l < IndexStream::kLanes; ++l)
-    lanes[l] = read_engine(in, g + "/lane_" + std::to_string(l));
-  return IndexStream(range, lanes, buffer, static_cast<unsigned>(position[0]));
-}
-}  // namespace
-
-void DsmcEnsemble::save(H5Writer& out, const std::string& g) const {
-  const std::size_t n = p_.size();
-  write_particles(out, g + "/particles", p_);
-  out.write(g + "/scalars", std::vector<double>{t_, v0_.x, v0_.y, v0_.z, u_max_, w_sum_, w_max_},
-            {7});
-  write_engine(out, g + "/events_stream", events_);
-  write_engine(out, g + "/pairs_stream", pairs_);
-  write_engine(out, g + "/sweep_stream", sweep_);
-  std::vector<std::uint64_t> ring_index;
-  for (const Pair& pair : ring_) {
-    ring_index.push_back(pair.i);
-    ring_index.push_back(pair.j);
-  }
-  out.write(g + "/ring_index", ring_index, {kLookahead, 2});
-  out.write(g + "/counters",
-            std::vector<std::uint64_t>{head_, counts_.collisions, counts_.fictitious, counts_.kicks,
-                                       refresh_countdown_},
-            {5});
+// The whole state, declared once for writing and reading (record/state_archive.hpp), in the
+// layout of the checkpoints written so far.
+void DsmcEnsemble::visit_state(StateArchive& a) {
+  const std::size_t n = c_.particles;
+  const bool plane = c_.dimension == 2;
+  visit_particles(a, "particles", p_, nullptr, c_.dimension, counts_between(n, n));
+  // Drag and shear centre the majorant on 0 (the flights contract or shear about it).
+  const Real centre = zero_if(linear_, "under drag or shear");
+  a.pack("scalars", real("t", t_, within(0.0, c_.t_end, "t_end")), real("V_x", v0_.x, centre),
+         real("V_y", v0_.y, centre),
+         real("V_z", v0_.z, linear_ ? centre : zero_if(plane, "in dimension 2")),
+         real("u_max", u_max_, at_least(0.0)),
+         real("w_sum", w_sum_, pairwise_ ? positive() : finite()), real("w_max", w_max_));
+  a.each("particles", n, 3, [&](std::size_t i) { return p_[i].t; }, within(0.0, t_, "t"));
+  a.stream("events_stream", events_);
+  a.stream("pairs_stream", pairs_);
+  a.stream("sweep_stream", sweep_);
+  a.table<std::uint64_t>(
+      "ring_index", kLookahead, 2, {below(n, "n")},
+      [&](std::size_t i, std::size_t k) -> std::uint64_t { return k ? ring_[i].j : ring_[i].i; },
+      [&](std::size_t i, std::size_t k, std::uint64_t x) {
+        (k ? ring_[i].j : ring_[i].i) = static_cast<std::uint32_t>(x);
+        ring_[i].bits = 0;
+      });
+  a.pack("counters", word("head", head_, below(kLookahead, "the look-ahead")),
+         word("collisions", counts_.collisions), word("fictitious", counts_.fictitious),
+         word("kicks", counts_.kicks), word("sweep countdown", refresh_countdown_, up_to(2 * n, "2n")));
   if (pairwise_) {
-    out.write(g + "/weights", std::vector<double>(w_.begin(), w_.end()), {n});
-    write_index_stream(out, g + "/candidates", candidates_);
-    write_index_stream(out, g + "/partners", partners_);
+    if (a.reading()) w_.assign(n, 0.0);
+    a.table<double>(
+        "weights", n, 0, {within(0.0, w_max_, "w_max")}, [&](std::size_t i, std::size_t) { return w_[i]; },
+        [&](std::size_t i, std::size_t, double x) { w_[i] = x; });
+    visit_index_stream(a, "candidates", candidates_, static_cast<std::uint32_t>(n));
+    visit_index_stream(a, "partners", partners_, static_cast<std::uint32_t>(n - 1));
   }
-  if (gaussian_) out.write(g + "/thermostat", std::vector<double>{gauss_.energy, gauss_.target}, {2});
-  if (window_ > 0.0) out.write(g + "/flight_window", std::vector<std::uint64_t>{next_window_}, {1});
+  if (gaussian_)  // the lazy scale: the particles above are the stored velocities w
+    a.pack("thermostat", real("energy", gauss_.energy, positive()),
+           real("target", gauss_.target, positive()));
+  if (window_ > 0.0) {
+    a.pack("flight_window", word("next window", next_window_, counts_between(1, UINT64_MAX)));
+    a.require("flight_window", [&] {
+      return static_cast<double>(next_window_) * window_ > t_ &&
+             static_cast<double>(next_window_ - 1) * window_ <= t_;
+    }, "a shear window that does not hold the time");
+  }
 }
 
 DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, const H5Reader& in, const std::string& g,
@@ -748,80 +734,19 @@ DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, const H5Reader& in, const s
       adapt_factor2_(config.majorant_update == MajorantUpdate::kStrict ? 4.0 : 1.0),
       heated_(config.thermostat == Thermostat::kWhiteNoise && config.beta > 0.0),
       gaussian_(config.thermostat == Thermostat::kGaussian),
-      events_(read_engine(in, g + "/events_stream")),
-      pairs_(read_engine(in, g + "/pairs_stream")),
-      sweep_(read_engine(in, g + "/sweep_stream")),
       pairwise_(config.majorant == MajorantKind::kPairwise),
       progress_(progress),
       flight_(config.flight_of(0)),
       linear_(config.linear_flight()) {
-  const std::size_t n = p_.size();
-  const bool rows = read_particles(in, g + "/particles", p_);
-  const auto scalars = in.read_double(g + "/scalars");
-  const auto ring_index = in.read_uint64(g + "/ring_index");
-  const auto counters = in.read_uint64(g + "/counters");
-  if (!rows || p_.size() != n || scalars.size() != 7 || ring_index.size() != 2 * kLookahead ||
-      counters.size() != 5 || counters[0] >= kLookahead)
-    throw std::runtime_error(in.path() + ": malformed ensemble state " + g);
-  // Every field against its invariants: a state that does not fit is refused here, not met as a
-  // crash (an index out of range), a hang (a time that never reaches t_end) or other numbers.
-  auto refuse = [&](const std::string& what) {
-    throw std::runtime_error(in.path() + ": malformed ensemble state " + g + ": " + what);
-  };
-  if (!(scalars[0] >= 0.0 && scalars[0] <= c_.t_end)) refuse("time outside [0, t_end]");
-  for (int k = 1; k < 7; ++k)
-    if (!std::isfinite(scalars[k])) refuse("a non-finite scalar");
-  if (!(scalars[4] >= 0.0)) refuse("a negative majorant u_max");
-  for (const Particle& q : p_)
-    if (!(q.t >= 0.0 && q.t <= scalars[0])) refuse("a particle's time outside [0, t]");
-  if (c_.dimension == 2)
-    for (const Particle& q : p_)
-      if (q.v.z != 0.0) refuse("a particle with v_z != 0 in dimension 2");
-  if (c_.dimension == 2 && scalars[3] != 0.0) refuse("a bulk velocity with V_z != 0 in dimension 2");
-  for (unsigned k = 0; k < kLookahead; ++k)
-    if (ring_index[2 * k] >= n || ring_index[2 * k + 1] >= n) refuse("a pair index out of range");
-  if (counters[4] > 2 * n) refuse("a sweep countdown beyond 2n");
-  t_ = scalars[0];
-  v0_ = {scalars[1], scalars[2], scalars[3]};
-  set_majorant(scalars[4]);
-  for (unsigned k = 0; k < kLookahead; ++k)
-    ring_[k] = {static_cast<std::uint32_t>(ring_index[2 * k]),
-                static_cast<std::uint32_t>(ring_index[2 * k + 1]), 0};
-  head_ = static_cast<unsigned>(counters[0]);
-  counts_ = {counters[1], counters[2], counters[3]};
+  if (linear_) set_shear_windows();  // the window and the majorant's growth factor, as constructed
+  StateArchive r(in, g);
+  visit_state(r);
+  set_majorant(u_max_);
   if (pairwise_) {
-    const std::vector<double> w = in.read_double(g + "/weights");
-    w_.assign(w.begin(), w.end());
-    if (w_.size() != n) throw std::runtime_error(in.path() + ": malformed weights in " + g);
-    for (const double x : w)
-      if (!(x >= 0.0 && x <= scalars[6])) refuse("a pair weight outside [0, w_max]");
-    if (!(scalars[5] > 0.0)) refuse("the weights' sum not positive");
-    w_sum_ = scalars[5];
-    set_w_max(scalars[6]);
-    refresh_countdown_ = counters[4];
-    candidates_ = read_index_stream(in, g + "/candidates", static_cast<std::uint32_t>(n));
-    partners_ = read_index_stream(in, g + "/partners", static_cast<std::uint32_t>(n - 1));
+    set_w_max(w_max_);
     set_pairwise_rate();
   }
-  if (gaussian_) {  // the lazy scale: the particles above are the stored velocities w
-    const auto th = in.read_double(g + "/thermostat");
-    if (th.size() != 2 || !(th[0] > 0) || !(th[1] > 0))
-      throw std::runtime_error(in.path() + ": malformed thermostat state in " + g);
-    gauss_.energy = th[0];
-    gauss_.target = th[1];
-    set_scale();
-  }
-  if (linear_) {
-    set_shear_windows();  // the window and the majorant's growth factor, as constructed
-    if (window_ > 0.0) {
-      const auto w = in.read_uint64(g + "/flight_window");
-      if (w.size() != 1 || w[0] == 0 || !(static_cast<double>(w[0]) * window_ > t_) ||
-          !(static_cast<double>(w[0] - 1) * window_ <= t_))
-        refuse("a shear window that does not hold the time");
-      next_window_ = w[0];
-    }
-    if (v0_.x != 0.0 || v0_.y != 0.0 || v0_.z != 0.0) refuse("a majorant centre off 0 under drag or shear");
-  }
+  if (gaussian_) set_scale();
 }
 
 }  // namespace granboltz

@@ -11,6 +11,7 @@
 #include "granboltz/dsmc/config.hpp"
 #include "granboltz/exec/ensemble_pool.hpp"
 #include "granboltz/h5/hdf5_io.hpp"
+#include "granboltz/record/state_archive.hpp"
 #include "granboltz/dsmc/particles.hpp"
 #include "granboltz/physics/thermostat/list.hpp"
 #include "granboltz/random/rng.hpp"
@@ -44,7 +45,10 @@ class DsmcEnsemble {
   bool advance_to(double s, const std::atomic<bool>* pause = nullptr);
 
   /// Writes the complete state (particles, streams, majorant, counts) under `group`.
-  void save(H5Writer& out, const std::string& group) const;
+  void save(H5Writer& out, const std::string& group) const { save_state(*this, out, group); }
+  /// The state, declared once for save() and the restoring constructor: every dataset with its
+  /// allowed values (record/state_archive.hpp).
+  void visit_state(StateArchive& a);
 
   /// Replaces every velocity at the current time (granboltz.Simulation's setter; the caller
   /// checks count and finiteness): each particle's clock is set to time(), the majorant's centre

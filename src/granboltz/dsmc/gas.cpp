@@ -11,7 +11,6 @@
 #include "granboltz/physics/heating.hpp"
 #include "granboltz/physics/restitution/laws.hpp"
 #include "granboltz/random/samplers.hpp"
-#include "granboltz/record/engine_io.hpp"
 
 namespace granboltz {
 
@@ -456,21 +455,48 @@ bool GasEnsemble::advance_to(double s, const std::atomic<bool>* pause) {
 
 // ---- Checkpoints ----
 
-void GasEnsemble::save(H5Writer& out, const std::string& g) const {
-  write_particles(out, g + "/particles", p_);
+// The whole state, declared once for writing and reading (record/state_archive.hpp), in the
+// layout of the checkpoints written so far.
+void GasEnsemble::visit_state(StateArchive& a) {
+  const std::size_t n = c_.particles, K = c_.species.size();
+  const bool plane = c_.dimension == 2;
+  visit_particles(a, "particles", p_, nullptr, c_.dimension, counts_between(n, n));
   if (rough_) {
-    std::vector<double> rows;
-    for (const Vec3& w : w_) rows.insert(rows.end(), {w.x, w.y, w.z});
-    out.write(g + "/spins", rows, {w_.size(), 3});
+    if (a.reading()) w_.resize(n);
+    const Real in_plane = zero_if(plane, "in dimension 2");  // a spin on the z axis
+    a.table<double>(
+        "spins", n, 3, {in_plane, in_plane, finite()},
+        [&](std::size_t i, std::size_t k) { return k == 0 ? w_[i].x : k == 1 ? w_[i].y : w_[i].z; },
+        [&](std::size_t i, std::size_t k, double x) { (k == 0 ? w_[i].x : k == 1 ? w_[i].y : w_[i].z) = x; });
   }
-  out.write(g + "/scalars", std::vector<double>{t_, v0_.x, v0_.y, v0_.z, energy_, target_}, {6});
-  out.write(g + "/bounds", r_max_, {r_max_.size()});
-  write_engine(out, g + "/events_stream", events_);
-  write_engine(out, g + "/pairs_stream", pairs_);
-  write_engine(out, g + "/sweep_stream", sweep_);
-  out.write(g + "/counters",
-            std::vector<std::uint64_t>{counts_.collisions, counts_.fictitious, counts_.kicks}, {3});
-  out.write(g + "/species_collisions", species_collisions_, {species_collisions_.size()});
+  // Drag and shear centre the majorant on 0 (the flights contract or shear about it).
+  const Real centre = zero_if(c_.linear_flight(), "under drag or shear");
+  const Real energy = gaussian_ ? positive() : finite();
+  a.pack("scalars", real("t", t_, within(0.0, c_.t_end, "t_end")), real("V_x", v0_.x, centre),
+         real("V_y", v0_.y, centre),
+         real("V_z", v0_.z, c_.linear_flight() ? centre : zero_if(plane, "in dimension 2")),
+         real("energy", energy_, energy), real("target", target_, energy));
+  a.each("particles", n, 3, [&](std::size_t i) { return p_[i].t; }, within(0.0, t_, "t"));
+  if (a.reading()) r_max_.resize(K), species_collisions_.resize(K);
+  a.table<double>(
+      "bounds", K, 0, {at_least(0.0)}, [&](std::size_t i, std::size_t) { return r_max_[i]; },
+      [&](std::size_t i, std::size_t, double x) { r_max_[i] = x; });
+  a.stream("events_stream", events_);
+  a.stream("pairs_stream", pairs_);
+  a.stream("sweep_stream", sweep_);
+  a.pack("counters", word("collisions", counts_.collisions), word("fictitious", counts_.fictitious),
+         word("kicks", counts_.kicks));
+  a.table<std::uint64_t>(
+      "species_collisions", K, 0, {Count{}},
+      [&](std::size_t i, std::size_t) { return species_collisions_[i]; },
+      [&](std::size_t i, std::size_t, std::uint64_t x) { species_collisions_[i] = x; });
+  // A bound below a particle's speed would make a probability exceed 1.
+  a.require("particles", [&] {
+    for (std::size_t s = 0; s < K; ++s)
+      for (std::uint64_t i = c_.species[s].offset; i < c_.species[s].offset + c_.species[s].count; ++i)
+        if (norm(p_[i].v - v0_) > r_max_[s] * (1.0 + 1e-12)) return false;
+    return true;
+  }, "a velocity beyond its species' bound (bounds)");
 }
 
 GasEnsemble::GasEnsemble(const DsmcConfig& config, const H5Reader& in, const std::string& g,
@@ -481,62 +507,11 @@ GasEnsemble::GasEnsemble(const DsmcConfig& config, const H5Reader& in, const std
       gaussian_(config.thermostat == Thermostat::kGaussian),
       rough_(config.roughness.on),
       flying_(flies(config)),
-      events_(read_engine(in, g + "/events_stream")),
-      pairs_(read_engine(in, g + "/pairs_stream")),
-      sweep_(read_engine(in, g + "/sweep_stream")),
       progress_(progress) {
   init_tables();
-  auto refuse = [&](const std::string& what) {
-    throw std::runtime_error(in.path() + ": malformed ensemble state " + g + ": " + what);
-  };
-  const std::size_t n = p_.size(), K = c_.species.size();
-  if (!read_particles(in, g + "/particles", p_) || p_.size() != n) refuse("particles");
-  const auto scalars = in.read_double(g + "/scalars");
-  const auto bounds = in.read_double(g + "/bounds");
-  const auto counters = in.read_uint64(g + "/counters");
-  const auto sc = in.read_uint64(g + "/species_collisions");
-  if (scalars.size() != 6 || bounds.size() != K || counters.size() != 3 || sc.size() != K)
-    refuse("a dataset of the wrong size");
-  for (double x : scalars)
-    if (!std::isfinite(x)) refuse("a non-finite scalar");
-  if (!(scalars[0] >= 0.0 && scalars[0] <= c_.t_end)) refuse("time outside [0, t_end]");
-  for (double r : bounds)
-    if (!(r >= 0.0 && std::isfinite(r))) refuse("a negative or non-finite bound");
-  for (const Particle& q : p_)
-    if (!(q.t >= 0.0 && q.t <= scalars[0])) refuse("a particle's time outside [0, t]");
-  if (c_.dimension == 2)
-    for (const Particle& q : p_)
-      if (q.v.z != 0.0) refuse("a particle with v_z != 0 in dimension 2");
-  if (rough_) {
-    const auto rows = in.read_double(g + "/spins");
-    if (rows.size() != 3 * n) refuse("spins");
-    w_.resize(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      w_[i] = {rows[3 * i], rows[3 * i + 1], rows[3 * i + 2]};
-      if (!std::isfinite(norm2(w_[i]))) refuse("a non-finite spin");
-      if (c_.dimension == 2 && (w_[i].x != 0.0 || w_[i].y != 0.0))
-        refuse("a spin outside the z axis in dimension 2");
-    }
-  }
-  t_ = scalars[0];
-  v0_ = {scalars[1], scalars[2], scalars[3]};
-  energy_ = scalars[4];
-  target_ = scalars[5];
-  if (gaussian_) {
-    if (!(energy_ > 0 && target_ > 0)) refuse("the thermostat's energies not positive");
-    s2_ = target_ / energy_;
-  }
-  if (c_.linear_flight() && (v0_.x != 0.0 || v0_.y != 0.0 || v0_.z != 0.0))
-    refuse("a majorant centre off 0 under drag");
-  r_max_ = bounds;
-  // A bound below a particle's speed would make a probability exceed 1: refuse it.
-  for (std::size_t a = 0; a < K; ++a) {
-    const auto& sp = c_.species[a];
-    for (std::uint64_t i = sp.offset; i < sp.offset + sp.count; ++i)
-      if (norm(p_[i].v - v0_) > r_max_[a] * (1.0 + 1e-12)) refuse("a velocity beyond its bound");
-  }
-  counts_ = {counters[0], counters[1], counters[2]};
-  species_collisions_ = sc;
+  StateArchive r(in, g);
+  visit_state(r);
+  if (gaussian_) s2_ = target_ / energy_;
   set_rates();
 }
 

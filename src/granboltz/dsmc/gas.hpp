@@ -28,6 +28,7 @@
 #include "granboltz/dsmc/particles.hpp"
 #include "granboltz/exec/ensemble_pool.hpp"
 #include "granboltz/h5/hdf5_io.hpp"
+#include "granboltz/record/state_archive.hpp"
 #include "granboltz/physics/pair_collision.hpp"
 #include "granboltz/random/rng.hpp"
 
@@ -44,7 +45,10 @@ class GasEnsemble {
   /// As DsmcEnsemble::advance_to: on return every particle is kicked to s and, with the Gaussian
   /// thermostat, the scale is folded in, so particles() and spins() are the true values.
   bool advance_to(double s, const std::atomic<bool>* pause = nullptr);
-  void save(H5Writer& out, const std::string& group) const;
+  void save(H5Writer& out, const std::string& group) const { save_state(*this, out, group); }
+  /// The state, declared once for save() and the restoring constructor: every dataset with its
+  /// allowed values (record/state_archive.hpp).
+  void visit_state(StateArchive& a);
 
   const Particles& particles() const { return p_; }
   /// Angular velocities (rough particles; d = 2: along z); empty for smooth ones.

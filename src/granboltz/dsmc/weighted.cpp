@@ -13,7 +13,6 @@
 #include "granboltz/physics/heating.hpp"
 #include "granboltz/physics/restitution/collide.hpp"
 #include "granboltz/random/samplers.hpp"
-#include "granboltz/record/engine_io.hpp"
 #include "granboltz/dsmc/initial_state.hpp"
 #include "granboltz/dsmc/particles_io.hpp"
 
@@ -855,23 +854,28 @@ bool WeightedEnsemble::advance_with(double s, const std::atomic<bool>* pause) {
 
 // ---- Checkpoints ----
 
-void WeightedEnsemble::save(H5Writer& out, const std::string& g) const {
-  write_particles(out, g + "/weighted_particles", p_, &g_);
-  out.write(g + "/scalars", std::vector<double>{t_, v0_.x, v0_.y, v0_.z, u_max_, split_scale_},
-            {6});
-  write_engine(out, g + "/events_stream", events_);
-  write_engine(out, g + "/pairs_stream", pairs_);
-  write_engine(out, g + "/sweep_stream", sweep_);
-  write_engine(out, g + "/reduce_stream", reduce_);
-  write_engine(out, g + "/split_stream", split_);
-  out.write(g + "/counters",
-            std::vector<std::uint64_t>{counts_.collisions, counts_.fictitious, counts_.kicks,
-                                       reductions_, splits_},
-            {5});
-  if (gaussian_)
-    out.write(g + "/thermostat",
-              std::vector<double>{gauss_.energy, gauss_.target, cooled_, mark_cooled_, mark_time_},
-              {5});
+// The whole state, declared once for writing and reading (record/state_archive.hpp), in the
+// layout of the checkpoints written so far.
+void WeightedEnsemble::visit_state(StateArchive& a) {
+  const std::size_t max = c_.weights.max_particles;
+  visit_particles(a, "weighted_particles", p_, &g_, c_.dimension,
+                  counts_between(2, max, "weights.max_particles"));
+  const std::size_t n = p_.size();
+  a.pack("scalars", real("t", t_, within(0.0, c_.t_end, "t_end")), real("V_x", v0_.x),
+         real("V_y", v0_.y), real("V_z", v0_.z, zero_if(c_.dimension == 2, "in dimension 2")),
+         real("u_max", u_max_, at_least(0.0)), real("split scale", split_scale_, at_least(0.0)));
+  a.each("weighted_particles", n, 3, [&](std::size_t i) { return p_[i].t; }, within(0.0, t_, "t"));
+  a.stream("events_stream", events_);
+  a.stream("pairs_stream", pairs_);
+  a.stream("sweep_stream", sweep_);
+  a.stream("reduce_stream", reduce_);
+  a.stream("split_stream", split_);
+  a.pack("counters", word("collisions", counts_.collisions), word("fictitious", counts_.fictitious),
+         word("kicks", counts_.kicks), word("reductions", reductions_), word("splits", splits_));
+  if (gaussian_)  // the lazy scale: the particles above are the stored velocities w
+    a.pack("thermostat", real("energy", gauss_.energy, positive()),
+           real("target", gauss_.target, positive()), real("cooled", cooled_),
+           real("mark cooled", mark_cooled_), real("mark time", mark_time_, within(0.0, t_, "t")));
 }
 
 WeightedEnsemble::WeightedEnsemble(const DsmcConfig& config, const H5Reader& in,
@@ -886,51 +890,10 @@ WeightedEnsemble::WeightedEnsemble(const DsmcConfig& config, const H5Reader& in,
       heated_(config.thermostat == Thermostat::kWhiteNoise && config.beta > 0.0),
       gaussian_(config.thermostat == Thermostat::kGaussian),
       floor_(kWeightFloor / static_cast<double>(config.particles)),
-      events_(read_engine(in, g + "/events_stream")),
-      pairs_(read_engine(in, g + "/pairs_stream")),
-      sweep_(read_engine(in, g + "/sweep_stream")),
-      reduce_(read_engine(in, g + "/reduce_stream")),
-      split_(read_engine(in, g + "/split_stream")),
       progress_(progress) {
-  const bool rows = read_particles(in, g + "/weighted_particles", p_, &g_);
-  const auto scalars = in.read_double(g + "/scalars");
-  const auto counters = in.read_uint64(g + "/counters");
-  const std::size_t n = p_.size();
-  if (!rows || n < 2 || n > config.weights.max_particles || scalars.size() != 6 ||
-      counters.size() != 5 || !std::all_of(g_.begin(), g_.end(), [](double w) { return w > 0.0; }))
-    throw std::runtime_error(in.path() + ": malformed weighted ensemble state " + g);
-  // Every field against its invariants (see DsmcEnsemble's restore).
-  auto refuse = [&](const std::string& what) {
-    throw std::runtime_error(in.path() + ": malformed weighted ensemble state " + g + ": " + what);
-  };
-  if (!(scalars[0] >= 0.0 && scalars[0] <= config.t_end)) refuse("time outside [0, t_end]");
-  for (int k = 1; k < 6; ++k)
-    if (!std::isfinite(scalars[k])) refuse("a non-finite scalar");
-  if (!(scalars[4] >= 0.0) || !(scalars[5] >= 0.0)) refuse("a negative u_max or split scale");
-  for (const Particle& q : p_)
-    if (!(q.t >= 0.0 && q.t <= scalars[0])) refuse("a particle's time outside [0, t]");
-  if (config.dimension == 2)
-    for (const Particle& q : p_)
-      if (q.v.z != 0.0) refuse("a particle with v_z != 0 in dimension 2");
-  if (config.dimension == 2 && scalars[3] != 0.0) refuse("a bulk velocity with V_z != 0 in dimension 2");
-  t_ = scalars[0];
-  v0_ = {scalars[1], scalars[2], scalars[3]};
-  u_max_ = scalars[4];
-  split_scale_ = scalars[5];
-  counts_ = {counters[0], counters[1], counters[2]};
-  reductions_ = counters[3];
-  splits_ = counters[4];
-  if (gaussian_) {  // the lazy scale: the particles above are the stored velocities w
-    const auto th = in.read_double(g + "/thermostat");
-    if (th.size() != 5 || !(th[0] > 0) || !(th[1] > 0) || !std::isfinite(th[0]) ||
-        !std::isfinite(th[1]) || !std::isfinite(th[2]) || !std::isfinite(th[3]) ||
-        !(th[4] >= 0.0 && th[4] <= t_))
-      refuse("a malformed thermostat state");
-    gauss_.set(th[0], th[1]);
-    cooled_ = th[2];
-    mark_cooled_ = th[3];
-    mark_time_ = th[4];
-  }
+  StateArchive r(in, g);
+  visit_state(r);
+  if (gaussian_) gauss_.set(gauss_.energy, gauss_.target);
   rebuild_tree();
 }
 

@@ -15,6 +15,7 @@
 #include "granboltz/dsmc/particles.hpp"
 #include "granboltz/physics/thermostat/gaussian.hpp"
 #include "granboltz/random/rng.hpp"
+#include "granboltz/record/state_archive.hpp"
 
 namespace granboltz {
 
@@ -122,7 +123,10 @@ class WeightedEnsemble {
 
   /// As DsmcEnsemble::advance_to: on return every particle is kicked up to s.
   bool advance_to(double s, const std::atomic<bool>* pause = nullptr);
-  void save(H5Writer& out, const std::string& group) const;
+  void save(H5Writer& out, const std::string& group) const { save_state(*this, out, group); }
+  /// The state, declared once for save() and the restoring constructor: every dataset with its
+  /// allowed values (record/state_archive.hpp).
+  void visit_state(StateArchive& a);
 
   const Particles& particles() const { return p_; }
   const std::vector<double>& weights() const { return g_; }
