@@ -14,8 +14,8 @@
     run.theta, run.steady["theta"]   # rough spheres: theta = T_rot/T with its interval (granboltz.ratios)
     run.temperature_ratios["a_over_b"]  # mixtures: T_a/T_b per row; steady: run.steady["temperature_ratio/a_over_b"]
     run.config, run.provenance       # the resolved config; version, commit, threads, wall time, ...
-    run.manifest["/temperature/mean"]  # DSMC: every presented dataset's shape, meaning and observer
-                                     # (granboltz.manifest); None for files written before it existed
+    run.manifest["/temperature/mean"]  # DSMC: each dataset's shape, meaning, observer (None: older files)
+    run.to_xarray(), run.to_dataframe(), run.plot("temperature", theory=...)  # granboltz.frames
 
 A merged file (`granboltz merge`) is identical to the unsharded run and reads the same; a single
 shard is read too, but its means cover only its ensembles: run.shard gives (index, count) and
@@ -26,8 +26,8 @@ anything that is not a complete output it can read: a file HDF5 cannot open or r
 truncated, a checksum failure), a checkpoint, an HDF5 file of another program, and a dataset or
 attribute that every output of the file's model (and config) has but this file lacks, or has with
 the wrong shape, dtype or non-finite values; with a /manifest (DSMC outputs of newer simulators),
-a dataset it lists that is missing or has another shape, or a damaged manifest. The layout checked is what the simulator writes
-(src/granboltz/app/output.cpp, dsmc/run.cpp, tv06/run.cpp; docs/output.md, docs/tv06.md). A
+a dataset it lists that is missing or has another shape, or a damaged manifest. The layout
+checked is what the simulator writes (app/output.cpp, dsmc/run.cpp, tv06/run.cpp; docs/output.md). A
 shard must have all of it too, for its own ensembles.
 """
 
@@ -36,11 +36,11 @@ from dataclasses import dataclass, field, replace
 import h5py
 import numpy as np
 
+from . import frames
 from .io import RunReadError, open_run, provenance, read_config, read_dataset, reading
 from .intervals import Interval, read_fields, read_steady
-from .layout import F8, U8, Spec, check_provenance, config_section, dsmc_layout, shard_range, tv06_layout
-from . import frames
 from .histograms import LazyHistograms
+from .layout import F8, U8, Spec, check_provenance, config_section, dsmc_layout, shard_range, tv06_layout
 from .manifest import read_manifest
 from .reader import Reader
 from .species import read_species
@@ -107,9 +107,7 @@ class Run:
     exact: dict
     provenance: dict
     species: dict = field(default_factory=dict)  # {name: granboltz.species.Species} of a mixture
-    # {path: granboltz.manifest.ManifestEntry} of every dataset the run presents (DSMC outputs
-    # with /manifest); None for TV06 outputs and files written before the manifest existed.
-    manifest: dict = None
+    manifest: dict = None  # {path: granboltz.manifest.ManifestEntry}; None: TV06, or written before it
 
     def __getattr__(self, name):
         observables = self.__dict__.get("observables", {})
@@ -121,9 +119,7 @@ class Run:
         """run["temperature"]: the observable of that name."""
         return self.observables[name]
 
-    # The run as data and a quick look (granboltz.frames): run.to_xarray(), run.to_dataframe(),
-    # run.plot("temperature", theory=...).
-    to_xarray, to_dataframe, plot = frames.to_xarray, frames.to_dataframe, frames.plot
+    to_xarray, to_dataframe, plot = frames.to_xarray, frames.to_dataframe, frames.plot  # the run as data
 
     def __repr__(self):
         """A few lines: model, sizes, shard, time grid, observables, steady (or final) values."""
@@ -298,8 +294,7 @@ def _read(reader, config, model):
 
     histograms = [g for g in _HISTOGRAM_GROUPS if g in layout["histograms"] or g in reader.names("/")]
     species = read_species(reader, layout.get("species"), section, n, int(section.get("particles", 0)))
-    manifest = read_manifest(reader)  # None: a file written before the manifest existed
+    manifest = read_manifest(reader)  # None: written before the manifest existed
     return Run(path=path, model=model, config=config, ensembles=ensembles, time=time, observables=observables,
                histograms=LazyHistograms(path, histograms, layout["histograms"]),
-               events=events, steady=steady, exact=exact, provenance=prov, species=species,
-               manifest=manifest)
+               events=events, steady=steady, exact=exact, provenance=prov, species=species, manifest=manifest)
