@@ -114,26 +114,6 @@ std::string find_dataset(const std::string& file, const std::string& suffix) {
   return "";
 }
 
-// Edits a dataset in place with HDF5 itself, as a user with h5py would: HDF5 recomputes the
-// Fletcher32 checksums, so they stay valid.
-template <class T>
-void edit_dataset(const std::string& file, const std::string& dataset, std::size_t index, T value,
-                  hid_t type) {
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
-  ASSERT_GE(f, 0) << file;
-  const hid_t d = H5Dopen2(f, dataset.c_str(), H5P_DEFAULT);
-  ASSERT_GE(d, 0) << dataset;
-  const hid_t space = H5Dget_space(d);
-  std::vector<T> data(static_cast<std::size_t>(H5Sget_simple_extent_npoints(space)));
-  H5Dread(d, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data());
-  data.at(index) = value;
-  ASSERT_GE(H5Dwrite(d, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()), 0);
-  H5Sclose(space);
-  H5Dclose(d);
-  H5Fclose(f);
-}
-
 // Rewrites the checkpoint's digest attribute to match its edited datasets, as an editor who knew
 // the format would: what is left to refuse the checkpoint is the check of every field.
 void forge_digest(const std::string& file) {
@@ -322,21 +302,21 @@ TEST(HostileCheckpoints, EditedCheckpointsAreRefusedWithOneLine) {
   const std::vector<Edit> edits = {
       {"pair index out of range",
        [&](const std::string& f) {
-         edit_dataset<std::uint64_t>(f, ring, 0, 4000000000ull, H5T_NATIVE_UINT64);
+         granboltz::test::edit_dataset<std::uint64_t>(f, ring, 0, 4000000000ull, H5T_NATIVE_UINT64);
        },
        "ring_index[0, 0] = 4000000000, not in [0, n = 4000)"},
       {"time NaN",
-       [&](const std::string& f) { edit_dataset<double>(f, scalars, 0, std::nan(""), H5T_NATIVE_DOUBLE); },
+       [&](const std::string& f) { granboltz::test::edit_dataset<double>(f, scalars, 0, std::nan(""), H5T_NATIVE_DOUBLE); },
        "scalars[0] (t) = nan, not in [0, t_end = 200]"},
       {"time beyond t_end",
-       [&](const std::string& f) { edit_dataset<double>(f, scalars, 0, 1e300, H5T_NATIVE_DOUBLE); },
+       [&](const std::string& f) { granboltz::test::edit_dataset<double>(f, scalars, 0, 1e300, H5T_NATIVE_DOUBLE); },
        "scalars[0] (t) = 1e+300, not in [0, t_end = 200]"},
       {"u_max changed",
-       [&](const std::string& f) { edit_dataset<double>(f, scalars, 4, 123.0, H5T_NATIVE_DOUBLE); },
+       [&](const std::string& f) { granboltz::test::edit_dataset<double>(f, scalars, 4, 123.0, H5T_NATIVE_DOUBLE); },
        nullptr},
       {"a counter changed",
        [&](const std::string& f) {
-         edit_dataset<std::uint64_t>(f, counters, 1, 5ull, H5T_NATIVE_UINT64);
+         granboltz::test::edit_dataset<std::uint64_t>(f, counters, 1, 5ull, H5T_NATIVE_UINT64);
        },
        nullptr},
   };

@@ -79,31 +79,12 @@ TEST(StateArchive, CheckpointsOfTheEarlierBuildRestoreAndSaveAgainByteForByte) {
   EXPECT_EQ(restored, 7);
 }
 
-// Edits of one value of a dataset, in the dataset's own type.
-template <class T>
-void edit(const std::string& file, const std::string& dataset, std::size_t index, T value,
-          hid_t type) {
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
-  ASSERT_GE(f, 0) << file;
-  const hid_t d = H5Dopen2(f, dataset.c_str(), H5P_DEFAULT);
-  ASSERT_GE(d, 0) << dataset;
-  const hid_t space = H5Dget_space(d);
-  std::vector<T> data(static_cast<std::size_t>(H5Sget_simple_extent_npoints(space)));
-  H5Dread(d, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data());
-  data.at(index) = value;
-  ASSERT_GE(H5Dwrite(d, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()), 0);
-  H5Sclose(space);
-  H5Dclose(d);
-  H5Fclose(f);
-}
-
 void edit_real(const std::string& file, const std::string& dataset, std::size_t index, double x) {
-  edit<double>(file, dataset, index, x, H5T_NATIVE_DOUBLE);
+  granboltz::test::edit_dataset<double>(file, dataset, index, x, H5T_NATIVE_DOUBLE);
 }
 void edit_word(const std::string& file, const std::string& dataset, std::size_t index,
                std::uint64_t x) {
-  edit<std::uint64_t>(file, dataset, index, x, H5T_NATIVE_UINT64);
+  granboltz::test::edit_dataset<std::uint64_t>(file, dataset, index, x, H5T_NATIVE_UINT64);
 }
 void remove_dataset(const std::string& file, const std::string& dataset) {
   const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);

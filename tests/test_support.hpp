@@ -4,6 +4,7 @@
 #include <fcntl.h>
 #include <gsl/gsl_cdf.h>
 #include <gtest/gtest.h>
+#include <hdf5.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -293,5 +294,25 @@ struct MaxwellExact {
     return z / 3;
   }
 };
+
+// Edits a dataset in place with HDF5 itself, as a user with h5py would: HDF5 recomputes the
+// Fletcher32 checksums, so they stay valid.
+template <class T>
+void edit_dataset(const std::string& file, const std::string& dataset, std::size_t index, T value,
+                  hid_t type) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  ASSERT_GE(f, 0) << file;
+  const hid_t d = H5Dopen2(f, dataset.c_str(), H5P_DEFAULT);
+  ASSERT_GE(d, 0) << dataset;
+  const hid_t space = H5Dget_space(d);
+  std::vector<T> data(static_cast<std::size_t>(H5Sget_simple_extent_npoints(space)));
+  H5Dread(d, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data());
+  data.at(index) = value;
+  ASSERT_GE(H5Dwrite(d, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()), 0);
+  H5Sclose(space);
+  H5Dclose(d);
+  H5Fclose(f);
+}
 
 }  // namespace granboltz::test

@@ -21,8 +21,10 @@ from granboltz.study_spec import find_binary
 run = granboltz.simulate({"model": "dsmc", "seed": 1, "ensembles": 2, "dsmc": {"particles": 64, "alpha": 0.8,
     "beta": 1, "kernel": {"lambda": 0, "C": 0.0795774715459477}, "t_end": 1, "observe_every": 0.5}},
     progress=False)
+import granboltz._core, granboltz.frames, granboltz.transport
 print(json.dumps({"file": granboltz.__file__, "T": list(run.temperature.mean), "binary": find_binary(),
-                  "checkout": getattr(granboltz, "CHECKOUT", None), "path": sys.path}))
+                  "checkout": getattr(granboltz, "CHECKOUT", None), "path": sys.path,
+                  "modules": [m.__file__ for m in (granboltz._core, granboltz.frames, granboltz.transport)]}))
 """
 
 
@@ -64,7 +66,12 @@ def test_two_checkouts_in_two_environments(tmp_path):
     for probe, venv in ((pa, a), (pb, b)):
         assert probe["file"].startswith(str(venv)), probe["file"]  # the installed copy, not a tree
         assert probe["binary"].startswith(str(venv)) and probe["binary"].endswith("_bin/granboltz")
-        assert not any(p.startswith(str(ROOT / "src")) for p in probe["path"])
+        assert all(m.startswith(str(venv)) for m in probe["modules"]), probe["modules"]
+        # An editable `make python` (--user) may put the tree on sys.path too: the environment's
+        # own site-packages must come first, so that its copy is the one imported.
+        own = min(i for i, p in enumerate(probe["path"]) if p.startswith(str(venv)))
+        tree = [i for i, p in enumerate(probe["path"]) if p.startswith(str(ROOT / "src"))]
+        assert all(own < i for i in tree), probe["path"]
     assert pa["checkout"] is None and pb["checkout"] == "other"
     assert pa["T"] == pb["T"] and len(pa["T"]) == 3  # the same simulator, the same bits
     version = subprocess.run([str(a / "bin" / "granboltz"), "--version"], check=True, capture_output=True,
