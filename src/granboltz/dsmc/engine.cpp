@@ -27,14 +27,6 @@ namespace {
 // virtual call per advance_to is all the boundary costs. The engine is a member (constructed in
 // place), so the wrapper adds no allocation of its own.
 
-/// The histograms of a view about V, as the run has always taken them (constant weights).
-void histograms(std::span<const Particle> p, const DsmcConfig& d, Vec3 V, const RowTargets& out) {
-  if (out.histogram) radial_histogram(p, d.histogram, V, out.histogram);
-  if (out.component) component_histogram(p, d.histogram, V, out.component);
-}
-
-Vec3 bulk_velocity(const Observation& o) { return {o[1], o[2], o[3]}; }
-
 class PapersGas final : public Ensemble {
  public:
   template <class... Args>
@@ -47,9 +39,7 @@ class PapersGas final : public Ensemble {
   void save(H5Writer& out, const std::string& group) const override { e_.save(out, group); }
   void set_velocities(const std::vector<Vec3>& v) override { e_.set_velocities(v); }
   Observation observe(const DsmcConfig& d, const RowTargets& out) const override {
-    const Observation o = measure(e_.particles(), out.moments, d.dimension);
-    histograms(e_.particles(), d, bulk_velocity(o), out);
-    return o;
+    return measure(e_.particles(), out.moments, d.dimension);
   }
   const EventCounts& counts() const override { return e_.counts(); }
   double u_max() const override { return e_.u_max(); }
@@ -77,10 +67,7 @@ class GeneralGas final : public Ensemble {
     e_.set_state({}, spins);
   }
   Observation observe(const DsmcConfig& d, const RowTargets& out) const override {
-    const Observation o =
-        measure_gas(d, e_.particles(), e_.spins(), out.moments, out.rows, out.row_moments);
-    histograms(e_.particles(), d, bulk_velocity(o), out);
-    return o;
+    return measure_gas(d, e_.particles(), e_.spins(), out.moments, out.rows, out.row_moments);
   }
   const EventCounts& counts() const override { return e_.counts(); }
   double u_max() const override { return e_.u_max(); }
@@ -114,15 +101,7 @@ class Weighted final : public Ensemble {
   void save(H5Writer& out, const std::string& group) const override { e_.save(out, group); }
   void set_velocities(const std::vector<Vec3>& v) override { e_.set_velocities(v); }
   Observation observe(const DsmcConfig& d, const RowTargets& out) const override {
-    const Observation o = measure_weighted(e_.particles(), e_.weights(), out.moments, d.dimension);
-    const Vec3 V = bulk_velocity(o);
-    if (out.histogram)
-      radial_histogram_weighted(e_.particles(), e_.weights(), d.histogram, V,
-                                out.histogram_weight, out.histogram);
-    if (out.component)
-      component_histogram_weighted(e_.particles(), e_.weights(), d.histogram, V,
-                                   out.component_weight, out.component);
-    return o;
+    return measure_weighted(e_.particles(), e_.weights(), out.moments, d.dimension);
   }
   void mark_window() override { e_.mark_cooling(); }
   const EventCounts& counts() const override { return e_.counts(); }

@@ -42,10 +42,6 @@ struct ParticleView {
 struct RowTargets {
   std::span<double> moments;             ///< <|v - V|^{2p}>, p = 1..dsmc.moments
   std::vector<double*> rows, row_moments;  ///< the rows of extra_row_sets() (general gas)
-  std::uint64_t* histogram = nullptr;    ///< [K + 1] particles per shell (dsmc.histogram)
-  double* histogram_weight = nullptr;    ///< weighted: [K + 1] weight per shell
-  std::uint64_t* component = nullptr;    ///< [K + 1] particles per bin (histogram.component)
-  double* component_weight = nullptr;    ///< weighted: [K + 1] weight per bin
 };
 
 /// One ensemble of a DSMC run, made by make_ensemble() or restore_ensemble().

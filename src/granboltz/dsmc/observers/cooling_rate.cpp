@@ -9,9 +9,9 @@ void CoolingRateObserver::declare(Record& record, LayoutPhase phase) const {
   if (phase == LayoutPhase::kCoolingRate) record.declare_moments("cooling_rate", 1);
 }
 
-void CoolingRateObserver::accumulate(const RunRows&, const ObserverRows&, const Ensemble& ensemble,
+void CoolingRateObserver::accumulate(const FinishedEnsemble& f, const ObserverRows&,
                                      Record& record) const {
-  record.moments("cooling_rate")[0].add(ensemble.mean_cooling_rate());
+  record.moments("cooling_rate")[0].add(f.ensemble.mean_cooling_rate());
 }
 
 void CoolingRateObserver::present(Presenter& out, const Record& record) const {

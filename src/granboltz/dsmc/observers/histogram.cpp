@@ -4,7 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "granboltz/dsmc/run.hpp"  // steady_rows
+#include "granboltz/dsmc/observers/row_set.hpp"  // steady_rows
 #include "granboltz/dsmc/weighted.hpp"
 #include "granboltz/stats/statistics.hpp"
 
@@ -56,12 +56,14 @@ void HistogramObserver::observe(const ObservedRow& row, ObserverRows& w) const {
   }
 }
 
-void HistogramObserver::save(H5Writer& out, const std::string& g, const ObserverRows& w) const {
+void HistogramObserver::save(H5Writer& out, const std::string& g, const ObserverRows& w,
+                             std::uint64_t) const {
   out.write(g + "/" + name_, w.counts, {w.counts.size()});
   if (!w.values.empty()) out.write(g + "/" + name_ + "_weight", w.values, {w.values.size()});
 }
 
-ObserverRows HistogramObserver::load(const H5Reader& in, const std::string& g, bool weighted) const {
+ObserverRows HistogramObserver::load(const H5Reader& in, const std::string& g, bool weighted,
+                                     std::uint64_t) const {
   ObserverRows w;
   w.counts = in.read_uint64(g + "/" + name_);
   if (weighted) w.values = in.read_double(g + "/" + name_ + "_weight");
@@ -70,9 +72,10 @@ ObserverRows HistogramObserver::load(const H5Reader& in, const std::string& g, b
   return w;
 }
 
-void HistogramObserver::accumulate(const RunRows& run, const ObserverRows& w,
-                                   const Ensemble& ensemble, Record& record) const {
-  const bool weighted = ensemble.weighted();
+void HistogramObserver::accumulate(const FinishedEnsemble& f, const ObserverRows& w,
+                                   Record& record) const {
+  const RunRows& run = f.run;
+  const bool weighted = f.ensemble.weighted();
   record.add_counts(name_, w.counts);
   if (d_.steady) {
     std::vector<double> avg(K1_, 0.0);

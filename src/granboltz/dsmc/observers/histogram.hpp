@@ -16,9 +16,11 @@ class HistogramObserver final : public Observer {
   void declare(Record& record, LayoutPhase phase) const override;
   ObserverRows start(bool weighted) const override;
   void observe(const ObservedRow& row, ObserverRows& rows) const override;
-  void save(H5Writer& out, const std::string& group, const ObserverRows& rows) const override;
-  ObserverRows load(const H5Reader& in, const std::string& group, bool weighted) const override;
-  void accumulate(const RunRows& run, const ObserverRows& rows, const Ensemble& ensemble,
+  void save(H5Writer& out, const std::string& group, const ObserverRows& rows,
+            std::uint64_t next) const override;
+  ObserverRows load(const H5Reader& in, const std::string& group, bool weighted,
+                    std::uint64_t next) const override;
+  void accumulate(const FinishedEnsemble& ensemble, const ObserverRows& rows,
                   Record& record) const override;
   void present(Presenter& out, const Record& record) const override;
 

@@ -22,16 +22,18 @@ namespace granboltz {
 /// the slot existed keep their places between the run's own sums (dsmc_layout). A new observer
 /// declares in kAppended only, after everything else.
 enum class LayoutPhase {
+  kSeries,             ///< first: the whole gas's series
   kRows,               ///< after the whole gas's series
+  kSteadySums,         ///< the whole gas's steady sums and speed moments, before the event columns
   kSteadyAverages,     ///< after the event columns, before the whole gas's per-ensemble averages
+  kEnsembleAverages,   ///< the whole gas's per-ensemble averages and cross sums
   kWeights,            ///< weighted particles, before the weighted engine's columns
   kCoolingRate,        ///< after the weighted engine's columns
   kComponent,          ///< after the weighted sums, before the general gas's row sets
+  kGeneralGas,         ///< the species' and the rotation's row sets, before per-species events
+  kRatios,             ///< after the per-species event columns
   kAppended,           ///< after everything: every observer added since
 };
-inline constexpr LayoutPhase kLayoutPhases[] = {
-    LayoutPhase::kRows,        LayoutPhase::kSteadyAverages, LayoutPhase::kWeights,
-    LayoutPhase::kCoolingRate, LayoutPhase::kComponent,      LayoutPhase::kAppended};
 
 /// One ensemble's rows of one observer: what it has observed so far (all rows allocated at the
 /// start), saved with the ensemble in a mid-run checkpoint.
@@ -40,7 +42,7 @@ struct ObserverRows {
   std::vector<double> values;
 };
 
-/// What an observer sees at observation row m.
+/// What an observer sees at observation row m, after the engine's own pass (Observer::target).
 struct ObservedRow {
   const ParticleView& view;
   const Observation& whole;  ///< the whole gas's scalars at this row (kObservables)
@@ -51,6 +53,14 @@ struct ObservedRow {
 struct RunRows {
   const std::vector<double>& times;
   double steady_after;  ///< rows t_m > steady_after are steady (dsmc.steady_from)
+};
+
+/// A finished ensemble, as every observer's accumulate sees it.
+struct FinishedEnsemble {
+  const RunRows& run;
+  const Ensemble& ensemble;
+  std::uint64_t index;                    ///< its ensemble number e (for error messages)
+  const std::vector<ObserverRows>& rows;  ///< every observer's rows, in make_observers' order
 };
 
 class Observer {
@@ -66,14 +76,20 @@ class Observer {
   virtual void declare(Record& record, LayoutPhase phase) const = 0;
   /// The rows of a new ensemble, zero. `weighted`: the engine's particles carry weights.
   virtual ObserverRows start(bool weighted) const = 0;
+  /// Where the engine's own pass over its particles at row m writes what it measures for this
+  /// observer (the speed moments, the species' rows): the tuned loops measure everything in one
+  /// pass, in the order that fixes the bits. Most observers measure in observe() instead.
+  virtual void target(ObserverRows& /*rows*/, std::uint64_t /*m*/, RowTargets& /*out*/) const {}
   /// Observes row m of one ensemble.
   virtual void observe(const ObservedRow& row, ObserverRows& rows) const = 0;
-  /// The rows into an ensemble's checkpoint group, and back (std::runtime_error naming the file
-  /// and the group when they do not fit the config).
-  virtual void save(H5Writer& out, const std::string& group, const ObserverRows& rows) const = 0;
-  virtual ObserverRows load(const H5Reader& in, const std::string& group, bool weighted) const = 0;
+  /// The rows 0..next-1 into an ensemble's checkpoint group, and back (std::runtime_error naming
+  /// the file and the group when they do not fit the config).
+  virtual void save(H5Writer& out, const std::string& group, const ObserverRows& rows,
+                    std::uint64_t next) const = 0;
+  virtual ObserverRows load(const H5Reader& in, const std::string& group, bool weighted,
+                            std::uint64_t next) const = 0;
   /// Adds one finished ensemble to the record's exact sums (order-independent).
-  virtual void accumulate(const RunRows& run, const ObserverRows& rows, const Ensemble& ensemble,
+  virtual void accumulate(const FinishedEnsemble& ensemble, const ObserverRows& rows,
                           Record& record) const = 0;
   /// Its datasets, from the record only.
   virtual void present(Presenter& out, const Record& record) const = 0;
