@@ -96,9 +96,11 @@ def maxwell_gaussian_usf_ratios(alpha, shear, gamma, C, d=3, geometry="uniform")
 
 
 def hard_sphere_nu0(T, gamma, C, d=3):
-    """nu0 = p/eta0 of elastic hard spheres at T (d = 3): (64/5) sqrt(pi) gamma C sqrt(T)."""
-    check_dimension(d, (3,), "hard_sphere_nu0")
-    return 64 / 5 * math.sqrt(math.pi) * gamma * C * math.sqrt(T)
+    """nu0 = p/eta0 of elastic hard spheres (d = 3: (64/5) sqrt(pi) gamma C sqrt(T)) or disks
+    (d = 2: 2 pi^(3/2) gamma C sqrt(T)) at T, density 1 (transport.md)."""
+    d = check_dimension(d, (2, 3), "hard_sphere_nu0")
+    factor = 64 / 5 * math.sqrt(math.pi) if d == 3 else 2 * math.pi ** 1.5
+    return factor * gamma * C * math.sqrt(T)
 
 
 def hard_sphere_usf_grad(alpha, shear, gamma, C, d=3):
@@ -108,29 +110,67 @@ def hard_sphere_usf_grad(alpha, shear, gamma, C, d=3):
     nu0, Pi = P/p - I, balanced by a (delta_ix P_yj + delta_jx P_yi). Returns a dict: T, the
     reduced shear rate a/nu0(T), and P/p as xx, yy, zz, xy."""
     check_dimension(d, (3,), "hard_sphere_usf_grad")
+
+    # In nu0 units the balance does not involve T: solve for Pi and the reduced shear rate a*,
+    # then T follows from a* = a/nu0(T), nu0 ~ sqrt(T).
     def residual(x):
-        T, pxx, pyy, pxy = x
+        r, pxx, pyy, pxy = x
         Pi = np.array([[pxx, pxy, 0.0], [pxy, pyy, 0.0], [0.0, 0.0, -pxx - pyy]])
-        n0 = hard_sphere_nu0(abs(T), gamma, C)
-        PP = Pi @ Pi
-        tr = np.trace(PP)
-        J = T * (-(3 - alpha) * (1 + alpha) / 4 * n0 * (Pi + (PP - tr * np.eye(3) / 3) / 14)
-                 - 5 / 12 * (1 - alpha * alpha) * n0 * (1 + tr / 40) * np.eye(3))
-        P = T * (np.eye(3) + Pi)
+        P = np.eye(3) + Pi
         drift = np.zeros((3, 3))
-        drift[0, :] += shear * P[1, :]
-        drift[:, 0] += shear * P[1, :]
-        R = J - drift
+        drift[0, :] += r * P[1, :]
+        drift[:, 0] += r * P[1, :]
+        R = _grad_collision_moment(Pi, alpha) - drift
         return [R[0, 0], R[1, 1], R[2, 2], R[0, 1]]
-    # The Maxwellian guess: T from the balance of viscous heating and cooling at Pi = 0 scale.
-    T_guess = (shear / (hard_sphere_nu0(1.0, gamma, C) * 0.6)) ** 2
-    x, _info, ok, message = optimize.fsolve(residual, [T_guess, 0.6, -0.3, -0.5], xtol=1e-13,
+    # The Navier-Stokes guess: a* ~ sqrt(3 zeta0* nu_eta*/2), Pi_xy ~ -a*/nu_eta*.
+    nu_eta, zeta0 = (3 - alpha) * (1 + alpha) / 4, 5 / 12 * (1 - alpha * alpha)
+    r0 = max(math.sqrt(1.5 * zeta0 * nu_eta), 1e-3)
+    x, _info, ok, message = optimize.fsolve(residual, [r0, r0 * r0 / nu_eta, 0.0, -r0 / nu_eta],
+                                            xtol=1e-13, full_output=True)
+    if ok != 1 or x[0] <= 0:
+        raise ValueError(f"hard_sphere_usf_grad: no steady solution found ({message})")
+    r, pxx, pyy, pxy = x
+    T = (shear / (r * hard_sphere_nu0(1.0, gamma, C))) ** 2
+    return {"T": T, "reduced_shear_rate": r,
+            "xx": 1 + pxx, "yy": 1 + pyy, "zz": 1 - pxx - pyy, "xy": pxy}
+
+
+def _grad_collision_moment(Pi, alpha):
+    """J_ij/(p nu0) of the nonlinear Grad closure (d = 3, transport.md §2) at Pi = P/p - I."""
+    PP = Pi @ Pi
+    tr = np.trace(PP)
+    return (-(3 - alpha) * (1 + alpha) / 4 * (Pi + (PP - tr * np.eye(3) / 3) / 14)
+            - 5 / 12 * (1 - alpha * alpha) * (1 + tr / 40) * np.eye(3))
+
+
+def hard_sphere_usf_grad_gaussian(alpha, reduced_shear, d=3):
+    """Steady USF of hard spheres under the Gaussian thermostat (d = 3) in the nonlinear Grad
+    closure [approx]: the thermostat's force xi v holds T, so the shear rate a* = a/nu0(T) is
+    free; P/p balances -a* (delta_ix P_yj + delta_jx P_yi) + J_ij + 2 xi P_ij = 0 with xi from
+    the trace. Returns P/p as xx, yy, zz, xy. At small a*, P_xy/p = -a*/(nu_eta* - zeta0*): the
+    thermostat's viscosity, not the Navier-Stokes one (usf_viscosity)."""
+    check_dimension(d, (3,), "hard_sphere_usf_grad_gaussian")
+    a = float(reduced_shear)
+
+    def balance(x):
+        pxx, pyy, pxy = x
+        Pi = np.array([[pxx, pxy, 0.0], [pxy, pyy, 0.0], [0.0, 0.0, -pxx - pyy]])
+        P = np.eye(3) + Pi
+        drift = np.zeros((3, 3))
+        drift[0, :] += a * P[1, :]
+        drift[:, 0] += a * P[1, :]
+        J = _grad_collision_moment(Pi, alpha)
+        xi2 = (np.trace(drift) - np.trace(J)) / np.trace(P)  # 2 xi: the trace stays
+        R = J - drift + xi2 * P
+        return [R[0, 0], R[1, 1], R[0, 1]]
+
+    nu = (3 - alpha) * (1 + alpha) / 4 - 5 / 12 * (1 - alpha * alpha)
+    x, _info, ok, message = optimize.fsolve(balance, [0.0, 0.0, -a / nu], xtol=1e-13,
                                             full_output=True)
     if ok != 1:
-        raise ValueError(f"hard_sphere_usf_grad: no steady solution found ({message})")
-    T, pxx, pyy, pxy = x
-    return {"T": T, "reduced_shear_rate": shear / hard_sphere_nu0(T, gamma, C),
-            "xx": 1 + pxx, "yy": 1 + pyy, "zz": 1 - pxx - pyy, "xy": pxy}
+        raise ValueError(f"hard_sphere_usf_grad_gaussian: no steady solution found ({message})")
+    pxx, pyy, pxy = x
+    return {"xx": 1 + pxx, "yy": 1 + pyy, "zz": 1 - pxx - pyy, "xy": pxy}
 
 
 def maxwell_drag_a2(alpha, omega, d=3):
