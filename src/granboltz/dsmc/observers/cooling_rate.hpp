@@ -13,12 +13,6 @@ class CoolingRateObserver final : public Observer {
 
   const char* name() const override { return "cooling_rate"; }
   void declare(Record& record, LayoutPhase phase) const override;
-  ObserverRows start(bool) const override { return {}; }
-  void observe(const ObservedRow&, ObserverRows&) const override {}  // the engine integrates it
-  void save(H5Writer&, const std::string&, const ObserverRows&, std::uint64_t) const override {}
-  ObserverRows load(const H5Reader&, const std::string&, bool, std::uint64_t) const override {
-    return {};
-  }
   void accumulate(const FinishedEnsemble& ensemble, const ObserverRows& rows,
                   Record& record) const override;
   void present(Presenter& out, const Record& record) const override;

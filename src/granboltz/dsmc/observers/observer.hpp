@@ -74,20 +74,24 @@ class Observer {
   virtual const char* name() const = 0;
   /// Declares its sums of `phase` (most observers: kAppended only).
   virtual void declare(Record& record, LayoutPhase phase) const = 0;
-  /// The rows of a new ensemble, zero. `weighted`: the engine's particles carry weights.
-  virtual ObserverRows start(bool weighted) const = 0;
+  /// The rows of a new ensemble, zero. `weighted`: the engine's particles carry weights. An
+  /// observer without rows of its own (it sums what the engine or other observers keep) leaves
+  /// start, observe, save and load as they are.
+  virtual ObserverRows start(bool /*weighted*/) const { return {}; }
   /// Where the engine's own pass over its particles at row m writes what it measures for this
   /// observer (the speed moments, the species' rows): the tuned loops measure everything in one
   /// pass, in the order that fixes the bits. Most observers measure in observe() instead.
   virtual void target(ObserverRows& /*rows*/, std::uint64_t /*m*/, RowTargets& /*out*/) const {}
   /// Observes row m of one ensemble.
-  virtual void observe(const ObservedRow& row, ObserverRows& rows) const = 0;
+  virtual void observe(const ObservedRow& /*row*/, ObserverRows& /*rows*/) const {}
   /// The rows 0..next-1 into an ensemble's checkpoint group, and back (std::runtime_error naming
   /// the file and the group when they do not fit the config).
-  virtual void save(H5Writer& out, const std::string& group, const ObserverRows& rows,
-                    std::uint64_t next) const = 0;
-  virtual ObserverRows load(const H5Reader& in, const std::string& group, bool weighted,
-                            std::uint64_t next) const = 0;
+  virtual void save(H5Writer& /*out*/, const std::string& /*group*/, const ObserverRows& /*rows*/,
+                    std::uint64_t /*next*/) const {}
+  virtual ObserverRows load(const H5Reader& /*in*/, const std::string& /*group*/,
+                            bool /*weighted*/, std::uint64_t /*next*/) const {
+    return {};
+  }
   /// Adds one finished ensemble to the record's exact sums (order-independent).
   virtual void accumulate(const FinishedEnsemble& ensemble, const ObserverRows& rows,
                           Record& record) const = 0;

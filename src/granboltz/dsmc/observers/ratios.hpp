@@ -36,12 +36,6 @@ class RatiosObserver final : public Observer {
 
   const char* name() const override { return "ratios"; }
   void declare(Record& record, LayoutPhase phase) const override;
-  ObserverRows start(bool) const override { return {}; }
-  void observe(const ObservedRow&, ObserverRows&) const override {}  // from the row sets' rows
-  void save(H5Writer&, const std::string&, const ObserverRows&, std::uint64_t) const override {}
-  ObserverRows load(const H5Reader&, const std::string&, bool, std::uint64_t) const override {
-    return {};
-  }
   void accumulate(const FinishedEnsemble& ensemble, const ObserverRows& rows,
                   Record& record) const override;
   void present(Presenter& out, const Record& record) const override;

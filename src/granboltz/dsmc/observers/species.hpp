@@ -15,7 +15,6 @@ class SpeciesObserver final : public Observer {
   void declare(Record& record, LayoutPhase phase) const override;
   ObserverRows start(bool weighted) const override;
   void target(ObserverRows& rows, std::uint64_t m, RowTargets& out) const override;
-  void observe(const ObservedRow&, ObserverRows&) const override {}  // the engine's pass fills them
   void save(H5Writer& out, const std::string& group, const ObserverRows& rows,
             std::uint64_t next) const override;
   ObserverRows load(const H5Reader& in, const std::string& group, bool weighted,
