@@ -124,7 +124,7 @@ def _observation(scalars, moments, d, prefix=""):
     for p, m in enumerate(moments, start=1):
         out[f"{prefix}moment_{2 * p}"] = float(m)
     if len(moments) >= 2:
-        from .sonine import sonine_from_moments
+        from .theory.sonine import sonine_from_moments
 
         a2, a3 = sonine_from_moments(moments[0], moments[1], moments[2] if len(moments) >= 3 else None, d)
         out[prefix + "a2"] = float(a2)

@@ -11,11 +11,11 @@ from math import pi, sqrt
 
 import numpy as np
 
-from . import maxwell_hierarchy as mh
-from .dimension import check_dimension, check_maxwellian_start
+from .theory import maxwell_hierarchy as mh
+from .theory.dimension import check_dimension, check_maxwellian_start
 from .io import open_run, read_config, read_finite
 from .theory import LAMBDA_P
-from .tail_theory import amplitude_and_chi_from_moments, amplitude_from_moments, tail_amplitude
+from .theory.tail_theory import amplitude_and_chi_from_moments, amplitude_from_moments, tail_amplitude
 
 Z = LAMBDA_P
 MOMENT_COLUMNS = ["p", "exact", "ours", "ci", "sigma", "exact_steady"]
