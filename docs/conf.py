@@ -58,9 +58,11 @@ def public_modules():
         if any(part.startswith("_") for part in info.name.split(".")):
             continue
         try:
-            importlib.import_module(info.name)
+            module = importlib.import_module(info.name)
         except Exception as error:  # noqa: BLE001 - a module that cannot be imported is listed, not fatal
             print(f"conf.py: {info.name} is not importable ({error}); left out of the API pages")
+            continue
+        if module.__name__ != info.name:  # an old module path kept as an alias: documented under its new one
             continue
         names.append(info.name)
     return names

@@ -571,7 +571,7 @@ def too_long(argument, scratch):
     from granboltz import _arguments, _core
 
     try:
-        text, origin, _ = _arguments._config_text(argument)
+        text, origin, _ = _arguments.config_text(argument)
         normalized = _core.normalized_config(text, origin)
     except BaseException:  # noqa: BLE001 - refused: the call under test says so
         return False

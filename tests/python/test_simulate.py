@@ -127,20 +127,20 @@ def test_simulate_takes_a_path_and_progress_false_prints_nothing(tmp_path, capfd
 def test_the_progress_bar_is_drawn_where_stderr_is_a_terminal():
     import io
 
-    from granboltz._progress import _Bar
+    from granboltz._progress import ProgressBar
 
     class Terminal(io.StringIO):
         def isatty(self):
             return True
 
     term = Terminal()
-    bar = _Bar("run.yaml", stream=term)
+    bar = ProgressBar("run.yaml", stream=term)
     for k in range(1, 11):
         bar(k / 10)
     bar.close()
     assert "run.yaml: 100%|" in term.getvalue() and "\r" in term.getvalue()  # tqdm redraws in place
     pipe = io.StringIO()
-    bar = _Bar("run.yaml", stream=pipe)
+    bar = ProgressBar("run.yaml", stream=pipe)
     bar(0.37)
     bar.close()
     assert pipe.getvalue() == pipe.getvalue().splitlines()[0] + "\n"

@@ -9,12 +9,12 @@ import types
 
 import pytest
 
-THEORY_MODULES = ["sonine", "theory", "maxwell_hierarchy", "viscoelastic", "tail_theory", "hcs_tail", "beyond",
+THEORY_MODULES = ["sonine", "theory.closed_forms", "maxwell_hierarchy", "viscoelastic", "tail_theory", "hcs_tail", "beyond",
                   "disks", "mixtures", "rough", "moment_checks", "shear", "transport"]
 
 # d-free, and why: data (rows, verdicts, fits of a run's numbers), utilities, or another model's formula
 D_FREE = {
-    "theory": {"dsmc_physics", "run_analytic_temperature", "expected_error",  # read d from the run's config
+    "theory.closed_forms": {"dsmc_physics", "run_analytic_temperature", "expected_error",  # read d from the run's config
                # TV06's intruder (1-D) and needle (2-D): their own models, not dsmc.dimension
                "gaussian_pdf", "powerlaw_pdf", "gaussian_fluxes", "fluxes_by_quadrature", "colliding_density",
                "colliding_mass", "gaussian_temperature_ratio", "exact_temperature_ratio",
@@ -47,10 +47,10 @@ CASES = {
     "sonine.cooling_rate": ((1.0, 0.8, 1.0, 0.1, 1), TWO), "sonine.steady_temperature": ((0.8, 1.0, 1.0, 0.1, 1), TWO),
     "sonine.maxwell_steady_temperature": ((0.8, 1.0, 1.0, 0.1), TWO),
     "sonine.hard_sphere_steady_temperature": ((0.8, 1.0, 1.0, 0.1), TWO),
-    "theory.maxwell_rate": ((0.5, 1.0, 0.1), TWO), "theory.analytic_temperature": (([0.0, 1.0], 1.0, 0.5, 1.0, 1.0, 0.1), TWO),
-    "theory.scheme_temperature": (("euler", [0.5, 1.0], 0.5, 1.0, 0.5, 1.0, 1.0, 0.1), TWO),
-    "theory.scheme_steady_temperature": (("strang", 0.5, 0.5, 1.0, 1.0, 0.1), TWO),
-    "theory.uncentred_expectation": ((1.0, 1.0, 1.0, 0.5, 100), TWO),
+    "theory.closed_forms.maxwell_rate": ((0.5, 1.0, 0.1), TWO), "theory.closed_forms.analytic_temperature": (([0.0, 1.0], 1.0, 0.5, 1.0, 1.0, 0.1), TWO),
+    "theory.closed_forms.scheme_temperature": (("euler", [0.5, 1.0], 0.5, 1.0, 0.5, 1.0, 1.0, 0.1), TWO),
+    "theory.closed_forms.scheme_steady_temperature": (("strang", 0.5, 0.5, 1.0, 1.0, 0.1), TWO),
+    "theory.closed_forms.uncentred_expectation": ((1.0, 1.0, 1.0, 0.5, 100), TWO),
     "maxwell_hierarchy.collision_rate": ((1, "1/4"), THREE), "maxwell_hierarchy.collision_coefficients": ((2, "1/2"), THREE),
     "maxwell_hierarchy.steady_moments": ((2, "1/2", 1, 1), THREE), "maxwell_hierarchy.maxwellian_moments": ((2, 1), THREE),
     "maxwell_hierarchy.time_dependent_moments": ((2, "1/2", 1, 1), THREE), "maxwell_hierarchy.sonine_a2": ((3, 16), THREE),
@@ -97,7 +97,7 @@ CASES = {
 
 
 def _function(name):
-    module, _, attr = name.partition(".")
+    module, _, attr = name.rpartition(".")
     return getattr(importlib.import_module(f"granboltz.{module}"), attr)
 
 

@@ -9,9 +9,10 @@ Modules, one concern each (import the one you need; nothing heavy is imported he
     io           low-level HDF5 reading; RunReadError names the file and the dataset
     layout       the datasets and attributes every output of a model has, as read_run checks them
     dsmc         the DSMC runs of the GRW05/RW05 tables (temperature series, histogram, steady)
-    theory       temperature laws, scheme values, the estimator's bias, TV06 §3.1 formulas
-    sonine       Sonine a2, a3 and the steady temperature of the heated gas (any lambda, d = 3;
-                 hard disks in d = 2)
+    theory       sub-package, the theory layer (pure; LAMBDA_P): closed_forms (temperature laws,
+                 scheme values, the estimator's bias, TV06 §3.1), sonine (a2, a3, the steady
+                 temperature), maxwell_hierarchy, tail_theory, dimension; the old paths
+                 granboltz.sonine, .maxwell_hierarchy, .tail_theory, .dimension are aliases
     finite_size  fit_finite_size: T(n) = T_inf + c/n over runs at several n
     summary      what repr(run) prints
     tables       GRW05 Tables 1-2, RW05 Tables 1-2

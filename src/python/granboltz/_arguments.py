@@ -17,7 +17,7 @@ ConfigError = _core.ConfigError
 MAX_THREADS = 1024  # the config's bound on `threads` (app/config.cpp)
 
 
-def _short(value, limit=80):
+def shorten(value, limit=80):
     """repr(value) for a one-line message, cut to about `limit` characters."""
     text = repr(value)
     return text if len(text) <= limit else f"{text[:limit]}… ({len(text)} characters)"
@@ -34,26 +34,26 @@ def _plain(value, key, origin, depth=1, size=None):
         size = [0, 0]  # values, bytes of YAML (about)
     size[0] += 1
     if size[0] > _core.kMaxConfigNodes:
-        raise ConfigError(f"{origin}: more than {_core.kMaxConfigNodes} values (at {_short(key, 120)}); "
+        raise ConfigError(f"{origin}: more than {_core.kMaxConfigNodes} values (at {shorten(key, 120)}); "
                           f"a config has at most {_core.kMaxConfigNodes}")
     if isinstance(value, np.ndarray):
         if value.size > _core.kMaxConfigNodes:
             raise ConfigError(f"{origin}: {key}: an array of {value.size} values; a config has at most "
                               f"{_core.kMaxConfigNodes}")
         if value.dtype.kind not in "biuf":
-            raise ConfigError(f"{origin}: {key} = {_short(value)}: an array of dtype {value.dtype} is "
+            raise ConfigError(f"{origin}: {key} = {shorten(value)}: an array of dtype {value.dtype} is "
                               "not a config value (an array of numbers or booleans is)")
         value = value.tolist()  # 0-d: a Python scalar; else nested lists of them
     if isinstance(value, (dict, list, tuple)):
         if depth > _core.kMaxConfigDepth:
             raise ConfigError(f"{origin}: nested more than {_core.kMaxConfigDepth} levels deep "
-                              f"(at {_short(key, 120)})")
+                              f"(at {shorten(key, 120)})")
         if isinstance(value, dict):
             out = {}
             for k, v in value.items():
                 name = _plain(k, f"a key of {key}", origin, depth + 1, size)
                 if isinstance(name, (dict, list)):
-                    raise ConfigError(f"{origin}: {key}: the key {_short(k)} is not a scalar")
+                    raise ConfigError(f"{origin}: {key}: the key {shorten(k)} is not a scalar")
                 out[name] = _plain(v, f"{key}.{name}" if key != "the config" else str(name),
                                    origin, depth + 1, size)
             return out
@@ -61,12 +61,12 @@ def _plain(value, key, origin, depth=1, size=None):
     size[1] += len(value) if isinstance(value, str) else 8  # about what YAML will write
     if size[1] > _core.kMaxConfigBytes:
         raise ConfigError(f"{origin}: more than {_core.kMaxConfigBytes} bytes of YAML (at "
-                          f"{_short(key, 120)}); a config is at most {_core.kMaxConfigBytes} bytes")
+                          f"{shorten(key, 120)}); a config is at most {_core.kMaxConfigBytes} bytes")
     if isinstance(value, str):
         try:
             value.encode("utf-8")
         except UnicodeEncodeError:  # a lone surrogate (os.fsdecode of bytes that are not UTF-8)
-            raise ConfigError(f"{origin}: {key} = {_short(value)}: not valid Unicode text") from None
+            raise ConfigError(f"{origin}: {key} = {shorten(value)}: not valid Unicode text") from None
     if value is None or type(value) in (bool, int, float, str):
         return value
     if isinstance(value, (bool, np.bool_)):
@@ -77,11 +77,11 @@ def _plain(value, key, origin, depth=1, size=None):
         return float(value)
     if isinstance(value, str):
         return str(value)
-    raise ConfigError(f"{origin}: {key} = {_short(value)}: a {type(value).__name__} is not a config "
+    raise ConfigError(f"{origin}: {key} = {shorten(value)}: a {type(value).__name__} is not a config "
                       "value (numbers, strings, booleans, lists and mappings are)")
 
 
-def _path(value, what):
+def path_argument(value, what):
     """(str, bytes) of a path argument (str, bytes or os.PathLike): the str for messages and
     Python, the bytes for the simulator, so that a path that is not UTF-8 is the same file."""
     if not isinstance(value, (str, bytes, os.PathLike)):
@@ -95,7 +95,7 @@ def _path(value, what):
     return text, raw
 
 
-def _config_text(config):
+def config_text(config):
     """(YAML text as bytes, origin for messages, the config file's path or b"") of a config dict
     or a path to a YAML file."""
     if isinstance(config, dict):
@@ -106,7 +106,7 @@ def _config_text(config):
             raise ConfigError(f"<config dict>: cannot be written as YAML ({str(e).splitlines()[0]})") from None
         return text.encode("utf-8", "surrogateescape"), b"<config dict>", b""
     if isinstance(config, (str, bytes, os.PathLike)):
-        shown, raw = _path(config, "config file")
+        shown, raw = path_argument(config, "config file")
         # Opened without blocking (a FIFO has no writer) and checked by what was opened: a
         # directory, a FIFO or a device is refused as the CLI refuses it.
         try:
@@ -129,18 +129,18 @@ def _config_text(config):
     raise TypeError(f"config must be a dict or a path to a YAML file, not {type(config).__name__}")
 
 
-def _integer(name, value, lo, hi, allowed):
+def integer_argument(name, value, lo, hi, allowed):
     """An integer argument (int or a NumPy integer; not a bool, not a float) in lo..hi."""
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
-        raise TypeError(f"{name} = {_short(value)}: must be an integer, {allowed} "
+        raise TypeError(f"{name} = {shorten(value)}: must be an integer, {allowed} "
                         f"(not a {type(value).__name__})")
     value = int(value)
     if not lo <= value <= hi:
-        raise ValueError(f"{name} = {_short(value)}: must be an integer, {allowed}")
+        raise ValueError(f"{name} = {shorten(value)}: must be an integer, {allowed}")
     return value
 
 
-def _real_array(call, what, value, shape):
+def real_array(call, what, value, shape):
     """value as a C-contiguous float64 array of `shape` (None: any length, the particle count
     the engine checks), finite and at most 1e150 in magnitude:
     TypeError for what is not an array of real numbers, ValueError (one line) for a wrong shape

@@ -6,7 +6,7 @@ import threading
 import time
 
 
-def _sigint_pauses():
+def sigint_pauses():
     """Whether SIGINT should pause an advance: only where Python itself would raise
     KeyboardInterrupt (the main thread, Python's default handler). An ignored SIGINT (a job
     started in the background or under nohup) stays ignored, and a handler of the user's own
@@ -25,7 +25,7 @@ def _in_notebook():
     return shell is not None and "IPKernelApp" in getattr(shell, "config", {})
 
 
-class _Bar:
+class ProgressBar:
     """The run's fraction as a tqdm bar where someone watches it (a terminal: tqdm's text bar; a
     notebook: tqdm's widget, or its text bar where the widget cannot be drawn), else as one line
     when it ends: a bar redrawn into a log or a pipe leaves its partial states behind

@@ -24,9 +24,9 @@ import math
 import numpy as np
 from scipy.optimize import curve_fit
 
-from .dimension import check_dimension, check_geometry
-from .local_exponent import Z, _log_bin_model, _quadrature, pool_shells, tail_fit
-from .sonine import first_sonine_a2
+from .theory.dimension import check_dimension, check_geometry
+from .local_exponent import Z, log_bin_model, shell_quadrature, pool_shells, tail_fit
+from .theory.sonine import first_sonine_a2
 from .tail_swpm import effective_counts, resolved_depth, resolved_limit, shell_profile
 
 HCS_TAIL_COLUMNS = ["alpha", "b_swpm", "b_swpm_ci", "A_swpm", "A_theory", "depth_swpm"]
@@ -71,8 +71,8 @@ def exponential_fit(pooled, r_lo, r_hi, v0, z=Z):
     if sel.sum() < 5:
         raise ValueError(f"window [{r_lo}, {r_hi}] holds {int(sel.sum())} pooled bins, need >= 5")
     frac = pooled["frac"][sel]
-    r, logw = _quadrature(pooled["lo"][sel], pooled["hi"][sel])
-    model, jac = _log_bin_model(r, logw, True)  # in r: a = A/v0; chi in r and in c differ by a constant
+    r, logw = shell_quadrature(pooled["lo"][sel], pooled["hi"][sel])
+    model, jac = log_bin_model(r, logw, True)  # in r: a = A/v0; chi in r and in c differ by a constant
 
     def m(x, c, a, chi):
         return model(x, c, a, 1.0, chi)

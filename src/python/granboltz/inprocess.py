@@ -42,8 +42,8 @@ SimulationBusyError.__doc__ = (
 
 __all__ = ["simulate", "Simulation", "ConfigError", "SimulationBusyError"]
 
-from ._arguments import MAX_THREADS, _config_text, _integer, _path, _real_array, _short  # noqa: E402
-from ._progress import _Bar, _sigint_pauses  # noqa: E402
+from ._arguments import MAX_THREADS, config_text, integer_argument, path_argument, real_array, shorten  # noqa: E402
+from ._progress import ProgressBar, sigint_pauses  # noqa: E402
 
 
 def simulate(config, output=None, threads=None, progress=True):
@@ -73,11 +73,11 @@ def simulate(config, output=None, threads=None, progress=True):
     """
     from .run import read_run
 
-    text, origin, config_path = _config_text(config)
+    text, origin, config_path = config_text(config)
     if threads is not None:
-        threads = _integer("threads", threads, 0, MAX_THREADS, f"0 <= threads <= {MAX_THREADS} (0: all cores)")
+        threads = integer_argument("threads", threads, 0, MAX_THREADS, f"0 <= threads <= {MAX_THREADS} (0: all cores)")
     if output is not None:
-        output, output_raw = _path(output, "output")
+        output, output_raw = path_argument(output, "output")
     _core.normalized_config(text, origin)  # a refused config fails before any file is made
     tmpdir = None
     if output is None:
@@ -85,7 +85,7 @@ def simulate(config, output=None, threads=None, progress=True):
         output = os.path.join(tmpdir, "run.h5")
         output_raw = os.fsencode(output)
     shown = os.fsdecode(origin)
-    bar = _Bar(os.path.basename(shown) if config_path else "granboltz") if progress else None
+    bar = ProgressBar(os.path.basename(shown) if config_path else "granboltz") if progress else None
     terminated = False
     try:
         terminated = _core.run_file(text, origin, config_path, output_raw, threads, bar,
@@ -124,7 +124,7 @@ def _observation(scalars, moments, d, prefix=""):
     for p, m in enumerate(moments, start=1):
         out[f"{prefix}moment_{2 * p}"] = float(m)
     if len(moments) >= 2:
-        from .sonine import sonine_from_moments
+        from .theory.sonine import sonine_from_moments
 
         a2, a3 = sonine_from_moments(moments[0], moments[1], moments[2] if len(moments) >= 3 else None, d)
         out[prefix + "a2"] = float(a2)
@@ -160,8 +160,8 @@ class Simulation:
         if _core_sim is not None:
             self._sim = _core_sim
         else:
-            text, origin, self._config_file = _config_text(config)
-            ensemble = _integer("ensemble", ensemble, 0, 2**64 - 1,
+            text, origin, self._config_file = config_text(config)
+            ensemble = integer_argument("ensemble", ensemble, 0, 2**64 - 1,
                                 "0 <= ensemble < the config's ensembles")
             self._sim = _core.Simulation(text, origin, ensemble)
         self._config = yaml.safe_load(self._sim.config_text)
@@ -175,7 +175,7 @@ class Simulation:
         of the wrong shape or dtype, a random stream in the all-zero state, a state without a
         digest (older versions) — raises granboltz.RunReadError naming the file and, where one
         is to blame, the dataset."""
-        shown, raw = _path(path, "simulation state")
+        shown, raw = path_argument(path, "simulation state")
         try:  # before opening: a FIFO would block, and HDF5 would call a directory "no such file"
             mode = os.stat(raw).st_mode
         except FileNotFoundError:
@@ -200,7 +200,7 @@ class Simulation:
         hash and a digest of the datasets to the HDF5 file `path` (atomically: a temporary name,
         renamed when complete; never through a link, over a directory, a FIFO or the config file
         this Simulation was made from: RuntimeError naming the path)."""
-        self._sim.save(_path(path, "save path")[1], self._config_file)
+        self._sim.save(path_argument(path, "save path")[1], self._config_file)
 
     def advance(self, t):
         """Advance to the absolute time t (a real number, time <= t <= t_end; for the euler and
@@ -211,13 +211,13 @@ class Simulation:
         KeyboardInterrupt; time is then where it stopped, and a later advance(t) continues
         exactly as if it had not."""
         if isinstance(t, (bool, np.bool_)) or not isinstance(t, numbers.Real):
-            raise TypeError(f"advance(t): t = {_short(t)}: must be a real number (a time), "
+            raise TypeError(f"advance(t): t = {shorten(t)}: must be a real number (a time), "
                             f"not a {type(t).__name__}")
         try:
             value = float(t)
         except OverflowError:
-            raise ValueError(f"advance({_short(t, 40)}): t must be finite and >= time") from None
-        if not self._sim.advance(value, _sigint_pauses()):
+            raise ValueError(f"advance({shorten(t, 40)}): t must be finite and >= time") from None
+        if not self._sim.advance(value, sigint_pauses()):
             raise KeyboardInterrupt(f"granboltz.Simulation.advance({t}) interrupted at t = {self.time}")
         return self
 
@@ -266,12 +266,12 @@ class Simulation:
     def set_velocities(self, velocities):
         """Replace every velocity now: real numbers, shape (n, d), finite, |v| <= 1e150, else a
         one-line ValueError/TypeError and nothing changed (docs/python.md)."""
-        self._sim.set_velocities(_real_array("set_velocities", "velocities", velocities, (None, self.dimension)))
+        self._sim.set_velocities(real_array("set_velocities", "velocities", velocities, (None, self.dimension)))
         return self
 
     def set_spins(self, spins):
         """Rough particles: every spin now, shape (n, 3) in d = 3, (n,) in d = 2, as set_velocities."""
-        self._sim.set_spins(_real_array("set_spins", "spins", spins, (None, 3) if self.dimension == 3 else (None,)))
+        self._sim.set_spins(real_array("set_spins", "spins", spins, (None, 3) if self.dimension == 3 else (None,)))
         return self
 
     def observe(self):

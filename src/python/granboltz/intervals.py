@@ -11,7 +11,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from .io import check_finite
-from .layout import _DSMC_OBSERVABLES, _DSMC_SCALARS, _SUMS, F8, I8, Spec, observable_specs
+from .layout import DSMC_OBSERVABLES, DSMC_SCALARS, SUMS, F8, I8, Spec, observable_specs
 
 _STEADY_MIN_ENSEMBLES = 10  # from this many ensembles the batch estimator is their spread (dsmc/run.hpp)
 
@@ -73,16 +73,16 @@ def steady_layout(reader, section, time, n, P, moments, out, acc):
     why = reader.why
     s_why = why("dsmc.steady_from")
     out["steady"] = {f"steady/{name}": observable_specs(f"steady/{name}", trail, (), s_why)
-                     for name, trail in _DSMC_OBSERVABLES}
+                     for name, trail in DSMC_OBSERVABLES}
     sm_why = why("dsmc.steady_from and dsmc.moments > 0")
     out["steady"].update({f"steady/{name}": observable_specs(f"steady/{name}", trail, (), sm_why)
                           for name, trail in moments if name.startswith("moment_")})
     if ("temperature_rotational", ()) in moments:  # rough spheres (dsmc.roughness), one more steady group
         out["steady"]["steady/temperature_rotational"] = observable_specs(
             "steady/temperature_rotational", (), (), why("dsmc.steady_from and dsmc.roughness"))
-    acc.append(Spec("accumulators/steady", I8, (_DSMC_SCALARS,) + _SUMS, True, s_why))
+    acc.append(Spec("accumulators/steady", I8, (DSMC_SCALARS,) + SUMS, True, s_why))
     if P:
-        acc.append(Spec("accumulators/moment_steady", I8, (P,) + _SUMS, True, s_why))
+        acc.append(Spec("accumulators/moment_steady", I8, (P,) + SUMS, True, s_why))
 
     estimators = "steady_ci" in section  # written into every resolved config since the estimators exist
     independent = section.get("steady_ci") == "independent"
@@ -108,15 +108,15 @@ def steady_layout(reader, section, time, n, P, moments, out, acc):
     if estimators:
         out["text"].append(("steady", "estimator", main, e_why))
 
-    K = _DSMC_SCALARS + P
+    K = DSMC_SCALARS + P
     per_ensemble = estimators and (not independent or batch)
     for name, size in (("steady_ensemble", K), ("steady_blocks", levels * K)):
         if size and (per_ensemble or reader.exists(f"accumulators/{name}")):
-            acc.append(Spec(f"accumulators/{name}", I8, (size,) + _SUMS, True, e_why))
+            acc.append(Spec(f"accumulators/{name}", I8, (size,) + SUMS, True, e_why))
     pairs = 3 if P >= 3 else 1 if P == 2 else 0
     sonine = bool(pairs) and reader.exists("accumulators/steady_moment_cross")  # both came with /steady/a2
     if sonine:
-        acc.append(Spec("accumulators/steady_moment_cross", I8, (pairs,) + _SUMS, True, s_why))
+        acc.append(Spec("accumulators/steady_moment_cross", I8, (pairs,) + SUMS, True, s_why))
     for name, p in (("a2", 2), ("a3", 3)):
         g = f"steady/{name}"
         if P >= p and (sonine or reader.exists(g)):

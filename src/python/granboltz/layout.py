@@ -17,10 +17,10 @@ from .reader import Reader  # noqa: F401 - older callers import it from here
 
 # Doubles are float64, counters uint64, the exact sums int64 digits.
 F8, U8, I8 = np.dtype("<f8"), np.dtype("<u8"), np.dtype("<i8")
-_SUMS = (2, 72)  # exact sums: fixed-point digits of the sum and of the sum of squares
-_DSMC_OBSERVABLES = (("density", ()), ("bulk_velocity", (3,)), ("temperature", ()), ("pressure_tensor", (3, 3)),
+SUMS = (2, 72)  # exact sums: fixed-point digits of the sum and of the sum of squares
+DSMC_OBSERVABLES = (("density", ()), ("bulk_velocity", (3,)), ("temperature", ()), ("pressure_tensor", (3, 3)),
                      ("heat_flux", (3,)), ("fourth_moment", ()), ("crit", ()), ("temperature_uncentred", ()))
-_DSMC_SCALARS = 20  # the scalars of one observation (dsmc/observables.hpp kNumScalars)
+DSMC_SCALARS = 20  # the scalars of one observation (dsmc/observables.hpp kNumScalars)
 _TV06_OBSERVABLES = {"intruder": ("temperature_ratio", "mean_velocity"),
                      "needle": ("translational_temperature_ratio", "rotational_temperature_ratio", "R")}
 _TV06_HISTOGRAMS = {"intruder": ("histogram",), "needle": ("velocity_histogram", "omega_histogram")}
@@ -119,9 +119,9 @@ def _histogram_specs(out, acc, name, R, K1, steady, swpm, h_why, sh_why):
         out["steady"][f"steady/{name}"] = [Spec(f"steady/{name}/mean", F8, (K1,), True, sh_why),
                                            Spec(f"steady/{name}/ci", F8, (K1,), True, sh_why)]
         out["steady_rows"].append((f"steady/{name}", sh_why))
-        acc.append(Spec(f"accumulators/{name}_steady", I8, (K1,) + _SUMS, True, sh_why))
+        acc.append(Spec(f"accumulators/{name}_steady", I8, (K1,) + SUMS, True, sh_why))
     if swpm:
-        acc.append(Spec(f"accumulators/{name}_weight", I8, (R * K1,) + _SUMS, True, h_why))
+        acc.append(Spec(f"accumulators/{name}_weight", I8, (R * K1,) + SUMS, True, h_why))
 
 
 def dsmc_layout(reader, section, time, n):
@@ -146,7 +146,7 @@ def dsmc_layout(reader, section, time, n):
     R = time.size
     moments = [(f"moment_{2 * p}", ()) for p in range(1, P + 1)]
     m_why = why("dsmc.moments > 0")
-    out = {"observables": {name: observable_specs(name, trail, (R,), why()) for name, trail in _DSMC_OBSERVABLES}}
+    out = {"observables": {name: observable_specs(name, trail, (R,), why()) for name, trail in DSMC_OBSERVABLES}}
     out["observables"].update({name: observable_specs(name, trail, (R,), m_why) for name, trail in moments})
     rough = section.get("roughness") is not None
     if rough:  # rough spheres: the rotational temperature beside the translational /temperature
@@ -158,9 +158,9 @@ def dsmc_layout(reader, section, time, n):
         events += [Spec(f"events/{key}", U8, (n,), True, why("dsmc.weights"))
                    for key in ("reductions", "particles_final")]
     out["events"] = events
-    acc = [Spec("accumulators/series", I8, (R * _DSMC_SCALARS,) + _SUMS, True, why())]
+    acc = [Spec("accumulators/series", I8, (R * DSMC_SCALARS,) + SUMS, True, why())]
     if P:
-        acc.append(Spec("accumulators/moment_series", I8, (R * P,) + _SUMS, True, m_why))
+        acc.append(Spec("accumulators/moment_series", I8, (R * P,) + SUMS, True, m_why))
     out["steady"], out["intervals"], out["text"], out["steady_rows"], out["histograms"] = {}, {}, [], [], {}
     if steady:
         from .intervals import steady_layout  # it builds on this module
@@ -217,7 +217,7 @@ def tv06_layout(reader, model, section, n):
     elif section.get("alpha") == 1:
         exact += [Spec(f"exact/{name}", F8, (), True, why("alpha = 1")) for name in _TV06_OBSERVABLES[model]]
     out["exact"] = exact
-    acc = [Spec(f"accumulators/{name}", I8, (1,) + _SUMS, True, why()) for name in _TV06_OBSERVABLES[model]]
+    acc = [Spec(f"accumulators/{name}", I8, (1,) + SUMS, True, why()) for name in _TV06_OBSERVABLES[model]]
     out["histograms"], out["totals"] = {}, []
     for name in _TV06_HISTOGRAMS[model]:
         bins = config_int(path, section, model, (name, "bins"))

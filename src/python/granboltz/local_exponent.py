@@ -27,7 +27,9 @@ import yaml
 from scipy.optimize import curve_fit
 from scipy.special import logsumexp
 
-Z = 3.2
+from .theory import LAMBDA_P
+
+Z = LAMBDA_P
 _NODES, _WEIGHTS = np.polynomial.legendre.leggauss(12)
 
 
@@ -98,12 +100,13 @@ def pool_shells(shells, min_count=400):
     return pooled
 
 
-def _quadrature(lo, hi):
+def shell_quadrature(lo, hi):
+    """Gauss-Legendre nodes r and log weights (with the shell volume 4 pi r^2, d = 3) over each shell [lo, hi]."""
     r = 0.5 * (hi - lo)[:, None] * _NODES + 0.5 * (hi + lo)[:, None]
     return r, np.log(0.5 * (hi - lo)[:, None] * _WEIGHTS * 4 * np.pi * r**2)
 
 
-def _log_bin_model(r, logw, chi_free):
+def log_bin_model(r, logw, chi_free):
     """ln F_j(c, a, b[, chi]) = c + ln sum_i w_ij r_ij^chi exp(-a r_ij^b) and its Jacobian (the
     derivatives are averages over the nodes with the softmax weights of the integrand)."""
     lr = np.log(r)
@@ -128,10 +131,10 @@ def _log_bin_model(r, logw, chi_free):
 
 def _fit(pooled, sel, chi_free, p0, frac=None):
     frac = pooled["frac"][sel] if frac is None else frac[sel]
-    r, logw = _quadrature(pooled["lo"][sel], pooled["hi"][sel])
+    r, logw = shell_quadrature(pooled["lo"][sel], pooled["hi"][sel])
     sigma = pooled["se"][sel] / pooled["frac"][sel]
     lower, upper = [-np.inf, 1e-12, 0.05] + [-50.0] * chi_free, [np.inf, np.inf, 5.0] + [50.0] * chi_free
-    model, jac = _log_bin_model(r, logw, chi_free)
+    model, jac = log_bin_model(r, logw, chi_free)
     popt, pcov = curve_fit(model, None, np.log(frac), p0=p0, sigma=sigma, jac=jac,
                            absolute_sigma=True, bounds=(lower, upper), method="trf", x_scale="jac",
                            ftol=1e-12, xtol=1e-12, gtol=1e-12, max_nfev=400)

@@ -11,12 +11,13 @@ from math import pi, sqrt
 
 import numpy as np
 
-from . import maxwell_hierarchy as mh
-from .dimension import check_dimension, check_maxwellian_start
+from .theory import maxwell_hierarchy as mh
+from .theory.dimension import check_dimension, check_maxwellian_start
 from .io import open_run, read_config, read_finite
-from .tail_theory import amplitude_and_chi_from_moments, amplitude_from_moments, tail_amplitude
+from .theory import LAMBDA_P
+from .theory.tail_theory import amplitude_and_chi_from_moments, amplitude_from_moments, tail_amplitude
 
-Z = 3.2
+Z = LAMBDA_P
 MOMENT_COLUMNS = ["p", "exact", "ours", "ci", "sigma", "exact_steady"]
 AMPLITUDE_COLUMNS = ["p", "ratio", "a_chi0", "a", "chi", "a_theory"]
 RW05_COLUMNS = ["n", "N", "t", "M4", "M4_ci", "M4_exact", "M4_sigma", "crit", "crit_ci", "crit_exact",

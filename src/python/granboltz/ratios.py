@@ -14,7 +14,7 @@ relative interval is the same.
 """
 
 from .intervals import IntervalSpec
-from .layout import _SUMS, F8, I8, Spec
+from .layout import SUMS, F8, I8, Spec
 from .species import species_entries
 
 
@@ -39,9 +39,9 @@ def ratio_layout(reader, section, R, steady, out, acc):
             continue
         why = reader.why(condition)
         out["observables"][group] = [Spec(f"{group}/{key}", F8, (R,), True, why) for key in ("mean", "ci", "bias")]
-        acc.append(Spec(f"accumulators/{prefix}cross", I8, (R,) + _SUMS, True, why))
+        acc.append(Spec(f"accumulators/{prefix}cross", I8, (R,) + SUMS, True, why))
         if steady:
             g, s_why = f"steady/{group}", reader.why(f"{condition} and dsmc.steady_from")
             out["steady"][g] = [Spec(f"{g}/{key}", F8, (), True, s_why) for key in ("mean", "ci", "bias")]
             out["intervals"][g] = IntervalSpec(g, (), True, ("ensembles",), s_why, keys=())
-            acc.append(Spec(f"accumulators/{prefix}steady_cross", I8, (1,) + _SUMS, True, s_why))
+            acc.append(Spec(f"accumulators/{prefix}steady_cross", I8, (1,) + SUMS, True, s_why))

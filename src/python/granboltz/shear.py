@@ -14,7 +14,7 @@ import math
 import numpy as np
 from scipy import integrate, optimize
 
-from .dimension import check_dimension, check_geometry
+from .theory.dimension import check_dimension, check_geometry
 
 
 def _area(d):

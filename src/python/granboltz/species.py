@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .layout import _DSMC_OBSERVABLES, F8, U8, Spec, observable_specs
+from .layout import DSMC_OBSERVABLES, F8, U8, Spec, observable_specs
 
 SONINE = (("a2", 2), ("a3", 3))  # (name, moments needed)
 
@@ -56,7 +56,7 @@ def species_layout(reader, section, time, n, P, steady):
         g, sg = f"species/{name}", f"steady/species/{name}"
         w = why("dsmc.species")
         m_w = why("dsmc.species and dsmc.moments > 0")
-        obs = {o: observable_specs(f"{g}/{o}", trail, (R,), w) for o, trail in _DSMC_OBSERVABLES}
+        obs = {o: observable_specs(f"{g}/{o}", trail, (R,), w) for o, trail in DSMC_OBSERVABLES}
         obs.update({o: observable_specs(f"{g}/{o}", trail, (R,), m_w) for o, trail in moments})
         sonine = {a: [Spec(f"{g}/{a}/{k}", F8, (R,), True, why(f"dsmc.species and dsmc.moments >= {p}"))
                       for k in ("mean", "ci", "bias")] for a, p in SONINE if P >= p}
@@ -64,7 +64,7 @@ def species_layout(reader, section, time, n, P, steady):
         if steady:
             s_w = why("dsmc.species and dsmc.steady_from")
             st = {o: [Spec(f"{sg}/{o}/{k}", F8, tuple(trail), True, s_w) for k in ("mean", "ci", "variance", "sigma")]
-                  for o, trail in list(_DSMC_OBSERVABLES) + moments}
+                  for o, trail in list(DSMC_OBSERVABLES) + moments}
             if P >= 2:
                 st_sonine["a2"] = [Spec(f"{sg}/a2/{k}", F8, (), True, why("dsmc.species, steady_from, moments >= 2"))
                                    for k in ("mean", "sigma", "ci", "bias")]

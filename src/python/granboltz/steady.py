@@ -8,7 +8,7 @@ import math
 import numpy as np
 
 from .tables import cf_column
-from .dimension import dsmc_geometry
+from .theory.dimension import dsmc_geometry
 from .theory import LAMBDA_P, dsmc_physics, scheme_steady_temperature, uncentred_expectation
 
 

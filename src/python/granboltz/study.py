@@ -56,13 +56,13 @@ import sys
 
 import yaml
 
-from .study_folder import LOCK_NAME, _move_aside, _runner_lock, _write_if_changed, check_folder
+from .study_folder import LOCK_NAME, move_aside, runner_lock, write_if_changed, check_folder
 from .study_grid import full_grid
 from .study_runs import check_runs, identity_problem, not_regular, run_difference, verify_runs
-from .study_snakemake import SNAKEFILE, _Stopped, _unlock_stale, run_snakemake, snakemake_command
-from .study_spec import (MAX_NAME, MAX_POINTS, _cell, _check_points, canonical, check_points, check_study, expand,
+from .study_snakemake import SNAKEFILE, Stopped, unlock_stale, run_snakemake, snakemake_command
+from .study_spec import (MAX_NAME, MAX_POINTS, cell_text, check_point_list, canonical, check_points, check_study, expand,
                          find_binary, load_study, point_hash, point_text, run_config, study_folder)
-from .study_yaml import MAX_BYTES, MAX_DEPTH, MAX_NODES, StudyError, _lstat, _one_line, _show, load_yaml
+from .study_yaml import MAX_BYTES, MAX_DEPTH, MAX_NODES, StudyError, lstat, one_line, show, load_yaml
 
 # The parts live in study_yaml (reading), study_spec (the study file and its points), study_folder,
 # study_runs (is a run sound and its point's), study_snakemake and study_table (Study); their
@@ -79,29 +79,29 @@ def _plan(study_file, into, max_points):
     spec = load_study(study_file, max_points)
     folder = study_folder(spec, into)
     points = expand(spec)
-    checked = _check_points(points, study_file)
+    checked = check_point_list(points, study_file)
     check_folder(folder)
     return spec, folder, points, checked
 
 
 def _write_folder(spec, folder, points, checked):
     for h, _, _ in points:
-        _write_if_changed(folder / "points" / f"{h}.yaml", checked[h][0], folder)
+        write_if_changed(folder / "points" / f"{h}.yaml", checked[h][0], folder)
     out = io.StringIO()
     writer = csv.writer(out, lineterminator="\n")
     grid = full_grid(spec)
     writer.writerow(["hash", *grid])
     for h, values, _ in points:
-        writer.writerow([h, *(_cell(values[k]) for k in grid)])
-    _write_if_changed(folder / "index.csv", out.getvalue(), folder)
-    _write_if_changed(folder / "study.yaml", yaml.safe_dump(spec, sort_keys=False), folder)
+        writer.writerow([h, *(cell_text(values[k]) for k in grid)])
+    write_if_changed(folder / "index.csv", out.getvalue(), folder)
+    write_if_changed(folder / "study.yaml", yaml.safe_dump(spec, sort_keys=False), folder)
 
 
 def prepare(study_file, into=None, max_points=MAX_POINTS):
     """Expand the study file, check every point, and write its folder (study.yaml, points/,
     index.csv); returns (folder, points) with points as expand() gives them."""
     spec, folder, points, checked = _plan(study_file, into, max_points)
-    with _runner_lock(folder):
+    with runner_lock(folder):
         _write_folder(spec, folder, points, checked)
     return folder, points
 
@@ -117,20 +117,20 @@ def run(study_file, cores=None, profile=None, into=None, quiet=False, extra=(), 
     from .study_table import Study
 
     if max_points is not None and (isinstance(max_points, bool) or not isinstance(max_points, int) or max_points < 1):
-        raise StudyError(f"max_points = {_show(max_points, 40)}: must be an integer >= 1 (or None: no limit)")
+        raise StudyError(f"max_points = {show(max_points, 40)}: must be an integer >= 1 (or None: no limit)")
     spec, folder, points, checked = _plan(study_file, into, max_points)
     binary = find_binary()
     say = (lambda msg: None) if quiet else (lambda msg: print(f"granboltz.study: {msg}", flush=True))
-    with _runner_lock(folder) as lock_fd:
+    with runner_lock(folder) as lock_fd:
         if lock_fd is not None:
-            _unlock_stale(folder, binary, quiet)
+            unlock_stale(folder, binary, quiet)
         _write_folder(spec, folder, points, checked)
         problems = check_runs(folder, points, binary, {h: c for h, (_, c) in checked.items()})
         for h, problem in problems.items():
             for path in (folder / "runs" / f"{h}.h5", folder / "logs" / f"{h}.log"):
-                st = _lstat(path)
+                st = lstat(path)
                 if st is not None and (path.suffix == ".h5" or not stat.S_ISREG(st.st_mode)):
-                    moved = _move_aside(path, folder)
+                    moved = move_aside(path, folder)
                     if path.suffix == ".h5":
                         say(f"{folder.name}: run {h} is {problem}: moved to {moved.relative_to(folder)}")
         if not problems:
@@ -186,7 +186,7 @@ def main(argv=None):
         parser.error(f"argument --max-points: must be >= 1 (got {args.max_points})")
 
     def stopped(signum, frame):
-        raise _Stopped
+        raise Stopped
 
     previous = signal.signal(signal.SIGTERM, stopped) if signal.getsignal(signal.SIGTERM) == signal.SIG_DFL else None
     try:
@@ -209,17 +209,17 @@ def main(argv=None):
                 with pd.option_context("display.max_rows", None, "display.max_columns", None, "display.width", 200):
                     print(table.to_string(index=False))
     except StudyError as e:
-        print(f"granboltz.study: error: {_one_line(e, 2000)}", file=sys.stderr)  # a path may hold a newline
+        print(f"granboltz.study: error: {one_line(e, 2000)}", file=sys.stderr)  # a path may hold a newline
         return 2
     except subprocess.CalledProcessError as e:
         print(f"granboltz.study: error: Snakemake failed (status {e.returncode}); see its output above and the "
               "simulator's in studies/<study>/logs/", file=sys.stderr)
         return 1
-    except (_Stopped, KeyboardInterrupt) as e:
-        name = "SIGTERM" if isinstance(e, _Stopped) else "SIGINT"
+    except (Stopped, KeyboardInterrupt) as e:
+        name = "SIGTERM" if isinstance(e, Stopped) else "SIGINT"
         print(f"granboltz.study: stopped by {name} (Snakemake and the simulator too); run again to resume",
               file=sys.stderr)
-        return 128 + (signal.SIGTERM if isinstance(e, _Stopped) else signal.SIGINT)
+        return 128 + (signal.SIGTERM if isinstance(e, Stopped) else signal.SIGINT)
     finally:
         if previous is not None:
             signal.signal(signal.SIGTERM, previous)
@@ -232,7 +232,7 @@ def _status(study):
     problems = study.problems()
     for h, values in study.points:
         state = problems.get(h, "ok")
-        print(f"{h}  {_one_line(', '.join(f'{k}={_cell(v)}' for k, v in values.items()), 120)}  {_one_line(state, 160)}")
+        print(f"{h}  {one_line(', '.join(f'{k}={cell_text(v)}' for k, v in values.items()), 120)}  {one_line(state, 160)}")
     kinds = {}
     for p in problems.values():
         kind = "missing" if p == "missing" else "damaged" if p.startswith("damaged") else "other"

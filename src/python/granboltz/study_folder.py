@@ -10,7 +10,7 @@ import pathlib
 import stat
 import tempfile
 
-from .study_yaml import StudyError, _kind, _lstat
+from .study_yaml import StudyError, file_kind, lstat
 
 
 _PARTS = ("points", "runs", "logs", "damaged", ".snakemake")
@@ -20,7 +20,7 @@ def check_folder(folder):
     """StudyError unless the study folder (if it exists) is a folder whose parts (points/, runs/,
     logs/, damaged/, .snakemake/ and everything in .snakemake/) are its own: folders and files,
     never a symbolic link, so nothing written in it lands elsewhere."""
-    st = _lstat(folder)
+    st = lstat(folder)
     if st is None:
         return
     try:
@@ -28,21 +28,21 @@ def check_folder(folder):
     except OSError as e:
         raise StudyError(f"{folder}: the study folder cannot be used ({e.strerror or e})") from None
     if not stat.S_ISDIR(st.st_mode):
-        raise StudyError(f"{folder}: the study folder is {_kind(st.st_mode)}, not a folder")
+        raise StudyError(f"{folder}: the study folder is {file_kind(st.st_mode)}, not a folder")
     for part in _PARTS:
-        st = _lstat(folder / part)
+        st = lstat(folder / part)
         if st is not None and not stat.S_ISDIR(st.st_mode):
-            raise StudyError(f"{folder / part}: is {_kind(st.st_mode)}, not a folder of the study "
+            raise StudyError(f"{folder / part}: is {file_kind(st.st_mode)}, not a folder of the study "
                              "(move it away; the study makes its own)")
     for root, dirs, files in os.walk(folder / ".snakemake"):
         for name in dirs + files:
-            st = _lstat(os.path.join(root, name))
+            st = lstat(os.path.join(root, name))
             if st is not None and not (stat.S_ISDIR(st.st_mode) or stat.S_ISREG(st.st_mode)):
-                raise StudyError(f"{os.path.join(root, name)}: is {_kind(st.st_mode)} inside Snakemake's folder "
+                raise StudyError(f"{os.path.join(root, name)}: is {file_kind(st.st_mode)} inside Snakemake's folder "
                                  "(move it away)")
 
 
-def _move_aside(path, folder):
+def move_aside(path, folder):
     """Move `path` (a file, folder, link or FIFO of the study folder, never followed) into
     damaged/ under a fresh name; returns the new path."""
     aside = folder / "damaged"
@@ -50,7 +50,7 @@ def _move_aside(path, folder):
     stem = str(path.relative_to(folder)).replace(os.sep, "-")
     for n in itertools.count():
         target = aside / (stem if n == 0 else f"{stem}.{n}")
-        if _lstat(target) is None:
+        if lstat(target) is None:
             break
     try:
         os.rename(path, target)
@@ -59,13 +59,13 @@ def _move_aside(path, folder):
     return target
 
 
-def _write_if_changed(path, text, folder=None):
+def write_if_changed(path, text, folder=None):
     """Write `text` to `path` (atomically) only when the file does not already hold it. Whatever
     is at `path` and is not a regular file (a link, folder, FIFO) is moved to damaged/ first."""
     path = pathlib.Path(path)
     folder = pathlib.Path(folder) if folder is not None else path.parent
     data = text.encode()
-    st = _lstat(path)
+    st = lstat(path)
     if st is not None and stat.S_ISREG(st.st_mode):
         try:
             fd = os.open(path, os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK | os.O_CLOEXEC)
@@ -75,7 +75,7 @@ def _write_if_changed(path, text, folder=None):
         except OSError:
             pass
     elif st is not None:
-        _move_aside(path, folder)
+        move_aside(path, folder)
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     try:
@@ -94,7 +94,7 @@ LOCK_NAME = ".runner.lock"
 
 
 @contextlib.contextmanager
-def _runner_lock(folder):
+def runner_lock(folder):
     """Hold the study folder's runner lock: flock on the folder itself, so that no file deleted
     or planted inside it (a FIFO or a new file in place of .runner.lock) can let a second runner
     in; .runner.lock holds the runner's pid for the message. Yields the lock's file descriptor,
@@ -142,9 +142,9 @@ def _read_pid(path):
 def _write_pid(path, folder):
     """Write this runner's pid to .runner.lock (with the folder's lock held): anything but a
     regular file there is moved aside to damaged/ first, and a link is never followed."""
-    st = _lstat(path)
+    st = lstat(path)
     if st is not None and not stat.S_ISREG(st.st_mode):
-        _move_aside(path, folder)
+        move_aside(path, folder)
     try:
         fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_NOFOLLOW | os.O_NONBLOCK | os.O_CLOEXEC, 0o644)
     except OSError as e:

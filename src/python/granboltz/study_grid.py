@@ -4,7 +4,7 @@ seeds) that expands as a last grid key `seed`."""
 
 import copy
 
-from .study_yaml import StudyError, _one_line, _show
+from .study_yaml import StudyError, one_line, show
 
 MAX_REPLICAS = 10_000
 
@@ -18,14 +18,14 @@ def check_replicas(spec, base, grid, path):
     if "seed" in grid:
         raise StudyError(f"{path}: replicas and grid.seed: give the seeds in one of them")
     if isinstance(r, bool) or not isinstance(r, (int, list)):
-        raise StudyError(f"{path}: replicas must be a number of replicas or a list of seeds (got {_show(r, 60)})")
+        raise StudyError(f"{path}: replicas must be a number of replicas or a list of seeds (got {show(r, 60)})")
     if isinstance(r, int):
         if not 1 <= r <= MAX_REPLICAS:
             raise StudyError(f"{path}: replicas = {r}: must be from 1 to {MAX_REPLICAS}")
         seed = base.get("seed")
         if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
             raise StudyError(f"{path}: replicas = {r} counts from base.seed, which must be a non-negative integer "
-                             f"(got {_show(seed, 40)}); or give replicas as a list of seeds")
+                             f"(got {show(seed, 40)}); or give replicas as a list of seeds")
         seeds = [seed + k for k in range(r)]
     else:
         seeds = r
@@ -33,7 +33,7 @@ def check_replicas(spec, base, grid, path):
             raise StudyError(f"{path}: replicas: a list of 1 to {MAX_REPLICAS} seeds (got {len(seeds)})")
     for s in seeds:
         if isinstance(s, bool) or not isinstance(s, int) or not 0 <= s < 1 << 64:
-            raise StudyError(f"{path}: replicas: seed {_show(s, 40)} is not an integer from 0 to 2^64 - 1")
+            raise StudyError(f"{path}: replicas: seed {show(s, 40)} is not an integer from 0 to 2^64 - 1")
     if len(set(seeds)) != len(seeds):
         raise StudyError(f"{path}: replicas repeats a seed")
     return seeds
@@ -60,7 +60,7 @@ def _item(items, part, key, through, path):
         return int(part)
     names = [str(item["name"]) for item in items if isinstance(item, dict) and "name" in item]
     have = (f"names {', '.join(names)}" if names else "no names") + f", or indices 0 to {len(items) - 1}"
-    raise StudyError(f"{path}: grid key {_show(key, 60)}: {through} has no item {_show(part, 40)} ({_one_line(have, 80)})")
+    raise StudyError(f"{path}: grid key {show(key, 60)}: {through} has no item {show(part, 40)} ({one_line(have, 80)})")
 
 
 def set_key(config, key, value, path="study"):
@@ -68,13 +68,13 @@ def set_key(config, key, value, path="study"):
     key may address an item of a list by its `name` (dsmc.species.heavy.mass) or its index."""
     node, parts = config, key.split(".")
     for i, part in enumerate(parts[:-1]):
-        through = _one_line(".".join(parts[:i + 1]), 60)
+        through = one_line(".".join(parts[:i + 1]), 60)
         if isinstance(node, list):
             child = node[_item(node, part, key, ".".join(parts[:i]), path)]
         else:
             child = node.setdefault(part, {})
         if not isinstance(child, (dict, list)):
-            raise StudyError(f"{path}: grid key {_show(key, 60)}: {through} is not a mapping in base")
+            raise StudyError(f"{path}: grid key {show(key, 60)}: {through} is not a mapping in base")
         node = child
     last = parts[-1]
     if isinstance(node, list):

@@ -6,8 +6,8 @@ import re
 import stat
 import subprocess
 
-from .study_spec import _RUNTIME_KEYS
-from .study_yaml import StudyError, _kind, _lstat, _one_line
+from .study_spec import RUNTIME_KEYS
+from .study_yaml import StudyError, file_kind, lstat, one_line
 
 
 def run_difference(config, stored, where=""):
@@ -18,7 +18,7 @@ def run_difference(config, stored, where=""):
         if not isinstance(stored, dict):
             return where or "the config"
         for key, value in config.items():
-            if not where and key in _RUNTIME_KEYS:
+            if not where and key in RUNTIME_KEYS:
                 continue
             if key not in stored:
                 return f"{where}{key}"
@@ -53,7 +53,7 @@ def identity_problem(config, stored, shard, expected=None):
     None (no parser at hand): every value of the point's own config must be stored."""
     where = run_difference(stored, expected) if expected is not None else run_difference(config, stored)
     if where:
-        return f"the run of another point (its {_one_line(where, 60)} differs)"
+        return f"the run of another point (its {one_line(where, 60)} differs)"
     if shard != _shard(config):
         return f"a shard {shard[0]}/{shard[1]}, not the whole run" if shard else "not the shard of this point"
     return None
@@ -79,21 +79,22 @@ def stored_identity_problem(path, config, expected=None):
             stored = read_config(f, path)
             shard = _file_shard(f)
     except (RunReadError, OSError, ValueError, KeyError) as e:
-        return f"damaged: {_brief(e, path)}"
+        return f"damaged: {brief(e, path)}"
     return identity_problem(config, stored, shard, expected)
 
 
-def _brief(error, path):
+def brief(error, path):
+    """The error on one line of at most 100 characters, the path replaced by 'the file'."""
     text = " ".join(str(error).split()).replace(f"{path}: ", "").replace(str(path), "the file")
-    return _one_line(text, 100)
+    return one_line(text, 100)
 
 
 def not_regular(path):
     """None for a regular file (not followed), "missing", or what is there instead."""
-    st = _lstat(path)
+    st = lstat(path)
     if st is None:
         return "missing"
-    return None if stat.S_ISREG(st.st_mode) else f"{_kind(st.st_mode)}, not a regular file"
+    return None if stat.S_ISREG(st.st_mode) else f"{file_kind(st.st_mode)}, not a regular file"
 
 
 def verify_runs(folder, hashes, binary):
@@ -113,7 +114,7 @@ def verify_runs(folder, hashes, binary):
         for name in batch:
             h = name[:-3]
             if h not in ok:
-                problems[h] = "damaged: " + _one_line(said.get(h, f"granboltz verify exited {out.returncode}"), 100)
+                problems[h] = "damaged: " + one_line(said.get(h, f"granboltz verify exited {out.returncode}"), 100)
     return problems
 
 

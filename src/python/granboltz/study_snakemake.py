@@ -11,7 +11,7 @@ import subprocess
 import sys
 import threading
 
-from .study_yaml import StudyError, _one_line
+from .study_yaml import StudyError, one_line
 
 SNAKEFILE = pathlib.Path(__file__).resolve().with_name("study.smk")
 _PYTHON = "/usr/bin/python3"
@@ -42,7 +42,7 @@ def snakemake_command(folder, targets, binary, cores=None, profile=None, extra=(
     return cmd + list(extra) + list(targets)
 
 
-def _unlock_stale(folder, binary, quiet):
+def unlock_stale(folder, binary, quiet):
     """Remove a Snakemake lock left by a Snakemake that was killed: called with the runner lock
     held, so no runner of this study, and no Snakemake one started, is alive."""
     locks = folder / ".snakemake" / "locks"
@@ -53,7 +53,7 @@ def _unlock_stale(folder, binary, quiet):
     out = subprocess.run(cmd, cwd=folder, capture_output=True, text=True, env=snakemake_environment(folder))
     if out.returncode != 0:
         raise StudyError(f"{folder}: cannot remove a stale Snakemake lock (snakemake --unlock exited "
-                         f"{out.returncode}: {_one_line((out.stderr.strip().splitlines() or [''])[-1], 120)})")
+                         f"{out.returncode}: {one_line((out.stderr.strip().splitlines() or [''])[-1], 120)})")
     if not quiet:
         print(f"granboltz.study: {folder.name}: removed the lock of a Snakemake that no longer runs", flush=True)
 
@@ -79,7 +79,7 @@ def _snakemake_preexec():
     return preexec
 
 
-class _Stopped(Exception):
+class Stopped(Exception):
     """The command line's SIGTERM: becomes exit status 143 with one line."""
 
 

@@ -19,13 +19,13 @@ import tempfile
 import yaml
 
 from .study_grid import check_replicas, full_grid, set_key
-from .study_yaml import MAX_DEPTH, MAX_NODES, StudyError, _one_line, _read_text, _show, load_yaml
+from .study_yaml import MAX_DEPTH, MAX_NODES, StudyError, one_line, read_text, show, load_yaml
 
 _NAME = re.compile(r"[A-Za-z0-9_-]+")
 _HASH = re.compile(r"[0-9a-f]{12}")
 MAX_POINTS = 10_000        # points of a grid; run(max_points=) and --max-points raise it
 MAX_NAME = 100             # characters of a study name (a folder name)
-_RUNTIME_KEYS = ("threads", "shard", "checkpoint")  # not in a run's stored config
+RUNTIME_KEYS = ("threads", "shard", "checkpoint")  # not in a run's stored config
 
 
 def load_study(path, max_points=MAX_POINTS, follow=True):
@@ -33,7 +33,7 @@ def load_study(path, max_points=MAX_POINTS, follow=True):
     {key: [values]}}. max_points: the most points the grid may have (None: no limit);
     follow=False: a symbolic link is refused (a study folder's own study.yaml)."""
     path = pathlib.Path(path)
-    spec = load_yaml(_read_text(path, "study file", follow=follow), path)
+    spec = load_yaml(read_text(path, "study file", follow=follow), path)
     return check_study(spec, path, max_points=max_points)
 
 
@@ -45,11 +45,11 @@ def _check_values(value, where, path, budget, depth=0):
     if budget[0] < 0:
         raise StudyError(f"{path}: more than {MAX_NODES} values in all (shared parts counted each time they are used)")
     if depth > MAX_DEPTH:
-        raise StudyError(f"{path}: {_one_line(where, 100)}: nested more than {MAX_DEPTH} levels deep")
+        raise StudyError(f"{path}: {one_line(where, 100)}: nested more than {MAX_DEPTH} levels deep")
     if isinstance(value, dict):
         for key, item in value.items():
             if not isinstance(key, str) or not key:
-                raise StudyError(f"{path}: {_one_line(where, 100)}: the key {_show(key, 40)} is not a non-empty string")
+                raise StudyError(f"{path}: {one_line(where, 100)}: the key {show(key, 40)} is not a non-empty string")
             _check_values(item, f"{where}.{key}", path, budget, depth + 1)
     elif isinstance(value, list):
         for i, item in enumerate(value):
@@ -58,17 +58,17 @@ def _check_values(value, where, path, budget, depth=0):
         pass
     elif isinstance(value, int):
         if abs(value) >= 1 << 64:
-            raise StudyError(f"{path}: {_one_line(where, 100)} = {_show(value, 40)}: an integer beyond 64 bits")
+            raise StudyError(f"{path}: {one_line(where, 100)} = {show(value, 40)}: an integer beyond 64 bits")
     elif isinstance(value, float):
         if not math.isfinite(value):
-            raise StudyError(f"{path}: {_one_line(where, 100)} = {value}: a config value must be a finite number")
+            raise StudyError(f"{path}: {one_line(where, 100)} = {value}: a config value must be a finite number")
     elif isinstance(value, str):
         try:
             value.encode("utf-8")
         except UnicodeEncodeError:
-            raise StudyError(f"{path}: {_one_line(where, 100)} = {_show(value)}: not a valid Unicode string") from None
+            raise StudyError(f"{path}: {one_line(where, 100)} = {show(value)}: not a valid Unicode string") from None
     else:
-        raise StudyError(f"{path}: {_one_line(where, 100)} = {_show(value)}: a {type(value).__name__} is not a config value "
+        raise StudyError(f"{path}: {one_line(where, 100)} = {show(value)}: a {type(value).__name__} is not a config value "
                          "(numbers, strings, booleans, lists and mappings are)")
 
 
@@ -78,10 +78,10 @@ def check_study(spec, path="study", max_points=MAX_POINTS):
         raise StudyError(f"{path}: a study file is a mapping with keys study, base and grid")
     unknown = sorted((k for k in spec if k not in ("study", "base", "grid", "replicas")), key=repr)
     if unknown:
-        raise StudyError(f"{path}: unknown key {_show(unknown[0], 60)} (allowed: study, base, grid, replicas)")
+        raise StudyError(f"{path}: unknown key {show(unknown[0], 60)} (allowed: study, base, grid, replicas)")
     name = spec.get("study")
     if not isinstance(name, str) or not _NAME.fullmatch(name):
-        raise StudyError(f"{path}: study must be a name of letters, digits, _ and - (got {_show(name, 60)})")
+        raise StudyError(f"{path}: study must be a name of letters, digits, _ and - (got {show(name, 60)})")
     if len(name) > MAX_NAME:
         raise StudyError(f"{path}: study: a name of {len(name)} characters (at most {MAX_NAME})")
     base = spec.get("base")
@@ -94,13 +94,13 @@ def check_study(spec, path="study", max_points=MAX_POINTS):
     budget = [MAX_NODES]
     for key, values in grid.items():
         if not isinstance(key, str) or not key or any(not part for part in key.split(".")):
-            raise StudyError(f"{path}: grid key {_show(key, 60)} is not a dotted config key such as dsmc.alpha")
+            raise StudyError(f"{path}: grid key {show(key, 60)} is not a dotted config key such as dsmc.alpha")
         if not isinstance(values, list) or not values:
-            raise StudyError(f"{path}: grid.{_one_line(key, 60)} must be a non-empty list of values "
-                             f"(got {_show(values, 60)})")
+            raise StudyError(f"{path}: grid.{one_line(key, 60)} must be a non-empty list of values "
+                             f"(got {show(values, 60)})")
         _check_values(values, f"grid.{key}", path, budget)
         if len({canonical(v) for v in values}) != len(values):
-            raise StudyError(f"{path}: grid.{_one_line(key, 60)} repeats a value")
+            raise StudyError(f"{path}: grid.{one_line(key, 60)} repeats a value")
         set_key(copy.deepcopy(base), key, values[0], path)  # a key that cannot be set fails here
     replicas = check_replicas(spec, base, grid, path)
     count = math.prod(len(values) for values in grid.values()) * (len(replicas) if replicas else 1)
@@ -145,12 +145,13 @@ def point_text(config):
     return yaml.safe_dump(config, sort_keys=True)
 
 
-def _cell(value):
+def cell_text(value):
+    """A table cell: strings as they are, other values in their canonical text."""
     return value if isinstance(value, str) else canonical(value)
 
 
 def _describe(values, limit=100):
-    return _one_line(", ".join(f"{k}={_cell(v)}" for k, v in values.items()), limit)
+    return one_line(", ".join(f"{k}={cell_text(v)}" for k, v in values.items()), limit)
 
 
 def study_folder(spec, into=None):
@@ -179,7 +180,7 @@ def find_binary():
     raise StudyError(f"no granboltz simulator: set GRANBOLTZ_BIN, build {tree} (make build) or put granboltz on PATH")
 
 
-def _parser():
+def study_parser():
     """The simulator's config parser: text, origin -> its normalized text, or ConfigError (a
     ValueError) with the simulator's one-line message. The extension granboltz._core where it
     is built, else `granboltz validate`."""
@@ -205,12 +206,12 @@ def _parser():
 def check_points(points, path="study"):
     """{hash: point file text} of expand()'s points, each config checked by the simulator's
     parser: StudyError naming the first point it refuses, with the simulator's message."""
-    return {h: text for h, (text, _) in _check_points(points, path).items()}
+    return {h: text for h, (text, _) in check_point_list(points, path).items()}
 
 
-def _check_points(points, path):
+def check_point_list(points, path):
     """check_points, with each point's run config: {hash: (point text, run_config)}."""
-    parse = _parser()
+    parse = study_parser()
     checked = {}
     for h, values, config in points:
         text = point_text(config)
@@ -218,7 +219,7 @@ def _check_points(points, path):
             checked[h] = (text, run_config(parse(text, f"point {h}")))
         except (ValueError, RuntimeError, TypeError) as e:
             message = " ".join(str(e).split())
-            raise StudyError(f"{path}: point {h} ({_describe(values)}): {_one_line(message, 400)}") from None
+            raise StudyError(f"{path}: point {h} ({_describe(values)}): {one_line(message, 400)}") from None
     return checked
 
 
@@ -228,7 +229,7 @@ def run_config(normalized):
     shard and checkpoint, which a run does not store."""
     config = yaml.load(normalized, Loader=getattr(yaml, "CSafeLoader", yaml.SafeLoader))  # the simulator's own text
     if not isinstance(config, dict):
-        raise ValueError(f"the simulator's parser printed no config mapping ({_one_line(normalized, 60)})")
-    for key in _RUNTIME_KEYS:
+        raise ValueError(f"the simulator's parser printed no config mapping ({one_line(normalized, 60)})")
+    for key in RUNTIME_KEYS:
         config.pop(key, None)
     return config

@@ -18,8 +18,8 @@ import numpy as np
 from .study_folder import check_folder
 from .study_grid import full_grid, replica_seeds
 from .study_runs import identity_problem, not_regular
-from .study_spec import _cell, _parser, canonical, expand, load_study, point_text, run_config, study_folder
-from .study_yaml import MAX_BYTES, StudyError, _lstat, _one_line, _read_text
+from .study_spec import cell_text, study_parser, canonical, expand, load_study, point_text, run_config, study_folder
+from .study_yaml import MAX_BYTES, StudyError, lstat, one_line, read_text
 from .theory import LAMBDA_P
 
 _MAX_INDEX_BYTES = 64 * MAX_BYTES  # an index of MAX_POINTS points with long values fits
@@ -43,26 +43,26 @@ class Study:
 
     def __init__(self, path, into=None):
         path = pathlib.Path(path)
-        st = _lstat(path)
+        st = lstat(path)
         if st is not None and not path.is_dir():
             path = study_folder(load_study(path, max_points=None), into)
         self.folder = path.absolute()
         check_folder(self.folder)
         index = self.folder / "index.csv"
-        if _lstat(index) is None:
+        if lstat(index) is None:
             raise StudyError(f"{self.folder}: not a study folder (no index.csv; run `python -m granboltz.study run` first)")
-        text = _read_text(index, "study index", follow=False, limit=_MAX_INDEX_BYTES)
+        text = read_text(index, "study index", follow=False, limit=_MAX_INDEX_BYTES)
         # The index must list the points of the study file as the folder holds it (study.yaml):
         # an index cut short or edited would drop or mislabel points without a word.
         spec = load_study(self.folder / "study.yaml", max_points=None, follow=False)
         expanded = expand(spec)
         points = [(h, values) for h, values, _ in expanded]
         grid = full_grid(spec)
-        expected = [["hash", *grid]] + [[h, *(_cell(values[k]) for k in grid)] for h, values in points]
+        expected = [["hash", *grid]] + [[h, *(cell_text(values[k]) for k in grid)] for h, values in points]
         try:
             rows = list(csv.reader(io.StringIO(text, newline="")))
         except csv.Error as e:
-            raise StudyError(f"{index}: not a study index ({_one_line(e, 100)})") from None
+            raise StudyError(f"{index}: not a study index ({one_line(e, 100)})") from None
         if rows != expected:
             line = next((i for i, (a, b) in enumerate(zip(rows, expected), start=1) if a != b),
                         min(len(rows), len(expected)) + 1)
@@ -83,7 +83,7 @@ class Study:
         points/<h>.yaml; a run made from an edited point file is not the point's and is named
         by problems() and table())."""
         if h not in self._configs:
-            raise StudyError(f"{self.folder}: {_one_line(repr(h), 40)} is not a point of this study")
+            raise StudyError(f"{self.folder}: {one_line(repr(h), 40)} is not a point of this study")
         return copy.deepcopy(self._configs[h])
 
     def run_path(self, h):
@@ -91,13 +91,13 @@ class Study:
 
     def missing(self):
         """The hashes of the points without a run file (problems() also checks the files)."""
-        return [h for h, _ in self.points if _lstat(self.run_path(h)) is None]
+        return [h for h, _ in self.points if lstat(self.run_path(h)) is None]
 
     def _read(self, h):
         """(Run, None) for a sound run of the point `h`, else (None, what is wrong)."""
         from .io import RunReadError
         from .run import read_run
-        from .study_runs import _brief
+        from .study_runs import brief
 
         path = self.run_path(h)
         problem = not_regular(path)
@@ -106,7 +106,7 @@ class Study:
         try:
             r = read_run(path)
         except (RunReadError, OSError) as e:
-            return None, f"damaged: {_brief(e, path)}"
+            return None, f"damaged: {brief(e, path)}"
         config = self.config(h)
         expected = self._run_config(h, config)
         if isinstance(expected, str):
@@ -119,7 +119,7 @@ class Study:
         every value of the point's own config must be in its run), or why there is none."""
         if not hasattr(self, "_parse"):
             try:
-                self._parse = _parser()
+                self._parse = study_parser()
             except StudyError:
                 self._parse = None
         if self._parse is None:
@@ -127,7 +127,7 @@ class Study:
         try:
             return run_config(self._parse(point_text(config), f"point {h}"))
         except (ValueError, RuntimeError, TypeError) as e:
-            return f"its point is refused by the simulator ({_one_line(' '.join(str(e).split()), 80)})"
+            return f"its point is refused by the simulator ({one_line(' '.join(str(e).split()), 80)})"
 
     def problems(self):
         """{hash: what is wrong} of the points without a sound run: "missing", what is there
@@ -166,7 +166,7 @@ class Study:
             if problem:
                 problems[h] = problem
         if problems and missing == "raise":
-            named = "; ".join(f"{h} {_one_line(p, 70)}" for h, p in list(problems.items())[:3])
+            named = "; ".join(f"{h} {one_line(p, 70)}" for h, p in list(problems.items())[:3])
             more = f"; and {len(problems) - 3} more" if len(problems) > 3 else ""
             raise StudyError(f"{self.name}: {len(problems)} of {len(self.points)} points have no sound run "
                              f"({named}{more}): run the study (python -m granboltz.study run) to make them")

@@ -20,19 +20,20 @@ class StudyError(ValueError):
     missing or damaged (table()). The message is one line."""
 
 
-def _one_line(text, limit=80):
+def one_line(text, limit=80):
     """Free text on one line for a message: control and other unprintable characters escaped,
     cut at `limit` characters (saying how long it was)."""
     text = "".join(c if c.isprintable() else c.encode("unicode_escape").decode("ascii") for c in str(text))
     return text if len(text) <= limit else f"{text[:limit]}... ({len(text)} characters)"
 
 
-def _show(value, limit=80):
+def show(value, limit=80):
     """A value on one line for a message: its repr, cut at `limit`."""
-    return _one_line(repr(value), limit)
+    return one_line(repr(value), limit)
 
 
-def _lstat(path):
+def lstat(path):
+    """os.lstat(path), or None when nothing is there; other failures raise StudyError."""
     try:
         return os.lstat(path)
     except FileNotFoundError:
@@ -41,7 +42,8 @@ def _lstat(path):
         raise StudyError(f"{path}: cannot look at it ({e.strerror or e})") from None
 
 
-def _kind(mode):
+def file_kind(mode):
+    """What a non-regular file is ('a symbolic link', 'a directory', ...) from its st_mode."""
     for test, name in ((stat.S_ISLNK, "a symbolic link"), (stat.S_ISDIR, "a directory"), (stat.S_ISFIFO, "a FIFO"),
                        (stat.S_ISSOCK, "a socket"), (stat.S_ISCHR, "a character device"),
                        (stat.S_ISBLK, "a block device")):
@@ -75,12 +77,12 @@ class _Loader(yaml.SafeLoader):
         if isinstance(event, yaml.AliasEvent):
             target = self.anchors.get(event.anchor)
             if target is not None and id(target) not in self._sizes:
-                raise _Limited(f"the alias *{_one_line(event.anchor, 40)} is inside the node it refers to",
+                raise _Limited(f"the alias *{one_line(event.anchor, 40)} is inside the node it refers to",
                                event.start_mark)
             node = super().compose_node(parent, index)
             if self._depth + self._sizes[id(node)][1] > MAX_DEPTH:
                 raise _Limited(f"nested more than {MAX_DEPTH} levels deep through the alias "
-                               f"*{_one_line(event.anchor, 40)}", event.start_mark)
+                               f"*{one_line(event.anchor, 40)}", event.start_mark)
             self._count(event.start_mark)
             return node
         self._count(event.start_mark)
@@ -122,12 +124,12 @@ class _Loader(yaml.SafeLoader):
                 except TypeError:
                     continue  # unhashable: PyYAML says so itself
                 if not new:
-                    raise _Limited(f"the key {_show(key, 60)} is given twice", key_node.start_mark)
+                    raise _Limited(f"the key {show(key, 60)} is given twice", key_node.start_mark)
                 seen.add(key)
         return super().construct_mapping(node, deep)
 
 
-def _read_text(path, what, follow=True, limit=MAX_BYTES):
+def read_text(path, what, follow=True, limit=MAX_BYTES):
     """The text of the regular UTF-8 file `path` of at most `limit` bytes; StudyError otherwise.
     A FIFO or device is refused before it is read (opened without blocking); follow=False: a
     symbolic link is refused too."""
@@ -135,13 +137,13 @@ def _read_text(path, what, follow=True, limit=MAX_BYTES):
     try:
         fd = os.open(path, flags)
     except OSError as e:
-        if not follow and _lstat(path) is not None and stat.S_ISLNK(os.lstat(path).st_mode):
+        if not follow and lstat(path) is not None and stat.S_ISLNK(os.lstat(path).st_mode):
             raise StudyError(f"{path}: the {what} is a symbolic link, not a regular file") from None
         raise StudyError(f"{path}: cannot read the {what} ({e.strerror or e})") from None
     mode = os.fstat(fd).st_mode
     if not stat.S_ISREG(mode):
         os.close(fd)
-        raise StudyError(f"{path}: the {what} is {_kind(mode)}, not a regular file")
+        raise StudyError(f"{path}: the {what} is {file_kind(mode)}, not a regular file")
     with os.fdopen(fd, "rb") as f:
         try:
             data = f.read(limit + 1)
@@ -166,6 +168,6 @@ def load_yaml(text, path):
         where = getattr(e, "problem_mark", None)
         at = f" (line {where.line + 1})" if where is not None else ""
         problem = " ".join(str(getattr(e, "problem", None) or e).split())
-        raise StudyError(f"{path}: not YAML{at}: {_one_line(problem, 200)}") from None
+        raise StudyError(f"{path}: not YAML{at}: {one_line(problem, 200)}") from None
     except (ValueError, RecursionError) as e:  # an integer of more than 4300 digits, ...
-        raise StudyError(f"{path}: not a usable YAML document ({_one_line(e, 120)})") from None
+        raise StudyError(f"{path}: not a usable YAML document ({one_line(e, 120)})") from None

@@ -34,8 +34,8 @@ nu0 = p/eta0 units; D* here is D/D0 (the nu0-unit value times (d+2)/(2d)).
 
 import math
 
-from .dimension import check_dimension, check_geometry
-from .sonine import first_sonine_a2
+from .theory.dimension import check_dimension, check_geometry
+from .theory.sonine import first_sonine_a2
 
 COEFFICIENTS = ("eta", "kappa", "mu", "D")
 

@@ -24,8 +24,8 @@ import math
 import numpy as np
 
 from .beyond import Z
-from .dimension import check_dimension, initial_temperature
-from .sonine import cooling_rate
+from .theory.dimension import check_dimension, initial_temperature
+from .theory.sonine import cooling_rate
 
 C1 = math.gamma(0.6) * math.sqrt(math.pi) / (2**0.2 * 5**0.4 * math.gamma(2.1))  # 1.1534489
 C2 = 0.6 * C1**2
@@ -44,7 +44,8 @@ A1 = LOSS[1] * _moment(1)  # Φ = A1 δ T^(1/10) − A2 δ² T^(1/5) + …: A1 =
 A2 = -LOSS[2] * _moment(2)
 B1 = A2 / A1
 # First-Sonine factor of ⟨|u|^p⟩, p(p − 2)/16 (granboltz.sonine.cooling_rate), at the loss term's p = 16/5
-KAPPA = 3.2 * 1.2 / 16
+P_LOSS = 3.2  # the loss term's moment order p = 16/5 (not lambda_p)
+KAPPA = P_LOSS * 1.2 / 16
 # δ = 0 conserves energy to rounding: even 10^6 collisions per ensemble, each rounding the same way, drift
 # by only 10^6 × 2^−52 ≈ 2e-10, while any real loss is of order δ
 ELASTIC_TOL = 1e-9

@@ -13,7 +13,7 @@ from scipy import integrate, special, stats
 
 from .dimension import check_dimension, check_geometry, dsmc_geometry, initial_temperature
 
-LAMBDA_P = 3.2  # confidence half-width factor of GRW05 §5.1 (p = 0.999); the simulator's ci
+from . import LAMBDA_P
 
 
 # ----------------------------------------------------------------------------- GRW05 / RW05
