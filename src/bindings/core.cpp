@@ -536,6 +536,11 @@ class Simulation {
       throw py::value_error("granboltz.Simulation: model " + model_name(config_->model) +
                             ": only model dsmc can be advanced step by step; run intruder and "
                             "needle configs with granboltz.simulate");
+    // A Simulation stops where its caller says: it takes no samples between the stops.
+    if (config_->dsmc.correlations.any())
+      throw ConfigError("dsmc.correlations: sampled by granboltz.simulate and `granboltz run`, "
+                        "not by granboltz.Simulation (whose caller chooses its stops); remove the "
+                        "key, or record the signals from Simulation.velocities at your own stops");
     if (ensemble_ >= config_->ensembles)
       throw py::value_error("granboltz.Simulation: ensemble " + std::to_string(ensemble_) +
                             " is not one of the config's ensembles 0.." +

@@ -32,7 +32,7 @@ D_FREE = {
     "disks": {"disk_a2_rows", "disk_judge", "disk_place", "disk_a2_verdict", "disk_item_verdict"},
     "mixtures": {"mixture_correlation", "mixture_rows", "mixture_verdict"},
     "rough": {"rough_rows", "rough_verdict"},
-    "transport": {"usf_viscosity", "correlation_integral"},  # a fit of runs; an integral of given data
+    "transport": {"usf_viscosity", "correlation_integral", "read_correlation", "green_kubo"},  # a fit of runs; an integral of given data
     "moment_checks": {"hierarchy_physics", "read_speed_moments", "moment_verdict", "rw05_moment_rows",
                       "crit_estimator_bias", "crit_verdict"},  # from a run or its config (d = 3 checked there)
 }

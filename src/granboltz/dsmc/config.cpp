@@ -685,10 +685,11 @@ DsmcConfig read_dsmc(const Section& s) {
   }
   if (c.majorant_auto) c.majorant = auto_majorant(c);
   check_flights(s, c);
+  if (s.has("correlations")) read_correlations(s, c);
   s.finish({"particles", "species", "roughness", "dimension", "geometry", "scheme", "steps", "alpha", "beta", "drag", "shear", "thermostat", "gamma", "kernel",
             "initial", "t_end", "observe_every", "observe", "histogram", "majorant", "majorant_update",
             "moments", "restitution",
-            "steady_from", "steady_ci", "weights"});
+            "steady_from", "steady_ci", "weights", "correlations"});
   return c;
 }
 
@@ -853,6 +854,7 @@ void emit_dsmc(YAML::Emitter& out, const DsmcConfig& c) {
     }
     out << YAML::EndMap;
   }
+  emit_correlations(out, c);  // absent without dsmc.correlations: other configs' text stays
   out << YAML::EndMap;
 }
 

@@ -107,6 +107,33 @@ struct FlightParam {
   }
 };
 
+/// dsmc.correlations.<name>: one time correlation sampled between the observation rows by a
+/// multiple-tau correlator (stats/correlator.hpp; dsmc/observers/correlations.hpp). Every value is
+/// resolved when the config is read (the defaults written out), so the stored config says it all.
+struct CorrelationSpec {
+  bool on = false;
+  double every = 0.0;  ///< the sampling interval
+  double from = 0.0;   ///< the first sample's time (default dsmc.steady_from, else 0)
+  unsigned points = 16, averaging = 2, levels = 0;  ///< the correlator's resolution
+  std::uint64_t particles = 0;  ///< velocity: the tagged particles of each species (the first ones)
+  /// The samples from `from` to t_end: time(k), k = 0..samples-1.
+  std::uint64_t samples = 0;
+  /// The time of sample k: from + k every (t_end where rounding would pass it).
+  double time(std::uint64_t k, double t_end) const {
+    const double t = from + static_cast<double>(k) * every;
+    return t < t_end ? t : t_end;
+  }
+};
+/// dsmc.correlations: the velocity autocorrelation of tagged particles (self-diffusion), the
+/// shear stress (and the normal-stress differences), the heat flux.
+struct CorrelationsSpec {
+  CorrelationSpec velocity, stress, heat_flux;
+  bool any() const { return velocity.on || stress.on || heat_flux.on; }
+  /// The first sample time of any of them after `after` (+infinity: none): where a run stops
+  /// its ensembles besides the rows (a replay of the run must stop there too).
+  double next_after(double after, double t_end) const;
+};
+
 /// The most species dsmc.species may list.
 inline constexpr std::size_t kMaxSpecies = 16;
 
@@ -156,6 +183,7 @@ struct DsmcConfig {
   /// which is what the reproduction profiles ask for (their outputs keep their bits).
   bool steady_ci_independent = false;
   WeightsSpec weights;      ///< dsmc.weights (absent: constant weights)
+  CorrelationsSpec correlations;  ///< dsmc.correlations (absent: none)
   /// dsmc.species (empty: one species of unit mass and diameter, the papers' gas). Filled for
   /// every general run (see general()), with one unnamed species if none was written.
   std::vector<SpeciesSpec> species;
@@ -200,6 +228,10 @@ struct SourceRun {
 
 DsmcConfig read_dsmc(const Section& s);
 void emit_dsmc(YAML::Emitter& out, const DsmcConfig& c);
+/// dsmc.correlations (dsmc/config_correlations.cpp): read, with the rest of c already read, and
+/// written back resolved.
+void read_correlations(const Section& s, DsmcConfig& c);
+void emit_correlations(YAML::Emitter& out, const DsmcConfig& c);
 const char* scheme_name(Scheme s);
 const char* reduction_name(Reduction r);
 const char* majorant_name(MajorantKind m);

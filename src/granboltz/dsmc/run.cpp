@@ -1,6 +1,8 @@
 #include "granboltz/dsmc/run.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -116,6 +118,9 @@ void run_dsmc(const DsmcRunConfig& config, const DriverOptions& options, Record&
   const std::uint64_t rows = times.size();
   const Observers observers = make_observers(d);
   const RunRows run_rows{times, steady_after(d)};
+  bool sampling = false;
+  for (const auto& o : observers)
+    sampling = sampling || std::isfinite(o->next_sample(o->start(false)));
 
   // Ensembles saved in progress by an interrupted run come first, then those not yet started.
   std::vector<std::uint64_t> todo, resumed;
@@ -150,9 +155,26 @@ void run_dsmc(const DsmcRunConfig& config, const DriverOptions& options, Record&
       for (const auto& o : observers) w.observed.push_back(o->start(w.ensemble->weighted()));
     }
     Ensemble& ens = *w.ensemble;
+    // Samples between the rows (time correlations), each taken where the ensemble is advanced to
+    // its time; those due at or before row time t come before the row.
+    auto sample_until = [&](double t) {
+      if (!sampling) return;
+      for (;;) {
+        double s = std::numeric_limits<double>::infinity();
+        for (std::size_t k = 0; k < observers.size(); ++k)
+          s = std::min(s, observers[k]->next_sample(w.observed[k]));
+        if (!(s <= t)) return;
+        if (s > ens.time())
+          while (!ens.advance_to(s, safe.pause_flag())) safe.park(e, &w);
+        const ParticleView view = ens.view();
+        for (std::size_t k = 0; k < observers.size(); ++k)
+          if (observers[k]->next_sample(w.observed[k]) == s) observers[k]->sample(view, s, w.observed[k]);
+      }
+    };
     for (; w.next < rows; ++w.next) {
       const std::uint64_t m = w.next;
-      if (m > 0)
+      sample_until(times[m]);
+      if (m > 0 && times[m] > ens.time())
         while (!ens.advance_to(times[m], safe.pause_flag())) safe.park(e, &w);
       // The engine measures the row in one pass, into the observers' targets; then each observer
       // sees the particles and the whole gas's scalars.

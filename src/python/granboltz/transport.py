@@ -236,3 +236,38 @@ def correlation_integral(lags, mean, covariance, ensembles, weight_rate=0.0, pre
     c *= np.exp(-weight_rate * t) * prefactor
     z = LAMBDA_P if ensembles >= 30 else float(stats.t.ppf(0.5 + math.erf(LAMBDA_P / math.sqrt(2)) / 2, ensembles - 1))
     return float(c @ rho), float(z * math.sqrt(max(c @ cov @ c, 0.0) / ensembles))
+
+
+def read_correlation(path, name):
+    """One time correlation of an output with dsmc.correlations: /correlations/<name> (name
+    `velocity`, `velocity/<species>`, `stress`, `normal_stress` or `heat_flux`) as a dict of numpy
+    arrays lag, mean, ci, covariance and the floats lag0, lag0_ci, ensembles, with the group's
+    attributes (every, from, points, averaging, levels, channels, samples). mean is normalised by
+    each ensemble's own lag-0 value; lag0 is that value's mean (docs/output.md)."""
+    import h5py
+    import numpy as np
+
+    with h5py.File(path, "r") as f:
+        key = f"correlations/{name}"
+        if key not in f:
+            have = sorted(f["correlations"]) if "correlations" in f else []
+            raise KeyError(f"{path}: no /{key} (it has {', '.join(have) or 'no dsmc.correlations'})")
+        g = f[key]
+        out = {k: np.asarray(g[k][()], dtype=float) for k in ("lag", "mean", "ci", "covariance")}
+        out.update(lag0=float(g["lag0"][()]), lag0_ci=float(g["lag0_ci"][()]),
+                   ensembles=int(f.attrs["ensembles"]) if "ensembles" in f.attrs else len(f["events/ensemble"]))
+        out.update({k: v.item() if hasattr(v, "item") else v for k, v in g.attrs.items() if k != "description"})
+    return out
+
+
+def green_kubo(path, name, weight_rate=0.0, prefactor=1.0):
+    """A Green-Kubo integral of a stored correlation: prefactor * lag0 * int rho(t) e^{-w t} dt
+    with its interval (correlation_integral's, with lag0's relative interval added linearly: a
+    bound whatever their correlation). Under the Gaussian thermostat at temperature T and unit
+    density: the self-diffusion D = green_kubo(path, "velocity", (1/2 - q) zeta) and the shear
+    viscosity eta = green_kubo(path, "stress", (1 - q) zeta, 1/T), q = 1 - lambda/2 (exact for
+    Maxwell molecules, tested). Returns (value, ci)."""
+    c = read_correlation(path, name)
+    value, ci = correlation_integral(c["lag"], c["mean"], c["covariance"], c["ensembles"], weight_rate, prefactor)
+    total = value * c["lag0"]
+    return total, abs(total) * (ci / abs(value) + c["lag0_ci"] / c["lag0"]) if value else c["lag0"] * ci

@@ -5,6 +5,7 @@
 // presenting its datasets (each listed in the output's manifest). dsmc/observers/registry.cpp
 // builds the observers a config needs, one line each; run.cpp schedules them generically.
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,7 @@
 #include "granboltz/dsmc/observers/presenter.hpp"
 #include "granboltz/h5/hdf5_io.hpp"
 #include "granboltz/record/record.hpp"
+#include "granboltz/stats/correlator.hpp"
 
 namespace granboltz {
 
@@ -40,6 +42,7 @@ enum class LayoutPhase {
 struct ObserverRows {
   std::vector<std::uint64_t> counts;
   std::vector<double> values;
+  std::vector<MultipleTauCorrelator> correlators;  ///< time correlations (sampled between rows)
 };
 
 /// What an observer sees at observation row m, after the engine's own pass (Observer::target).
@@ -84,6 +87,13 @@ class Observer {
   virtual void target(ObserverRows& /*rows*/, std::uint64_t /*m*/, RowTargets& /*out*/) const {}
   /// Observes row m of one ensemble.
   virtual void observe(const ObservedRow& /*row*/, ObserverRows& /*rows*/) const {}
+  /// Sampling between the rows (time correlations): the time of the next sample, +infinity when
+  /// there is none; the run advances the ensemble there (samples at a row's time before the
+  /// row) and calls sample(). Most observers sample nothing.
+  virtual double next_sample(const ObserverRows& /*rows*/) const {
+    return std::numeric_limits<double>::infinity();
+  }
+  virtual void sample(const ParticleView& /*view*/, double /*t*/, ObserverRows& /*rows*/) const {}
   /// The rows 0..next-1 into an ensemble's checkpoint group, and back (std::runtime_error naming
   /// the file and the group when they do not fit the config).
   virtual void save(H5Writer& /*out*/, const std::string& /*group*/, const ObserverRows& /*rows*/,

@@ -1,6 +1,7 @@
 #include "granboltz/dsmc/observers/registry.hpp"
 
 #include "granboltz/dsmc/observers/cooling_rate.hpp"
+#include "granboltz/dsmc/observers/correlations.hpp"
 #include "granboltz/dsmc/observers/histogram.hpp"
 #include "granboltz/dsmc/observers/moments.hpp"
 #include "granboltz/dsmc/observers/ratios.hpp"
@@ -29,6 +30,7 @@ std::vector<std::unique_ptr<Observer>> make_observers(const DsmcConfig& d) {
     out.push_back(std::make_unique<RotationObserver>(d));
   }
   if (!ratio_sets(d).empty()) out.push_back(std::make_unique<RatiosObserver>(d, 0, species, species_at, rotation_at));
+  if (d.correlations.any()) out.push_back(std::make_unique<CorrelationsObserver>(d));
   return out;
 }
 
