@@ -102,12 +102,12 @@ def relaxation_rows(runs, window=None):
             T = fit["T"]
             out.append(row(model, d, alpha, "kappa", "relaxation", fit["kappa"] / s["kappa0"],
                            fit["kappa_ci"] / s["kappa0"]))
-            if d == 3:
+            if d == 3 and (s["zeta"] > 0 or s["a2"] != 0):  # elastic: mu = 0 identically, nothing measured
                 denom = fit["rate"] + (0.5 - s["q"]) * s["zeta"]
                 source = s["zeta"] * T * fit["kappa"] + (d + 2) * s["a2"] * T * T / 2
                 mu = source / denom
-                # linear in kappa and 1/denom: the two relative cis added (both from the one rate)
-                mu_ci = abs(mu) * (s["zeta"] * T * fit["kappa_ci"] / abs(source) + fit["rate_ci"] / abs(denom))
+                # linear in kappa and 1/denom: the two cis added (both from the one rate)
+                mu_ci = (s["zeta"] * T * fit["kappa_ci"] + abs(mu) * fit["rate_ci"]) / abs(denom)
                 out.append(row(model, d, alpha, "mu", "relaxation", mu / (T * s["kappa0"]),
                                mu_ci / (T * s["kappa0"])))
         elif not isinstance(initial.get("temperature", 1.0), (int, float)):
@@ -222,3 +222,57 @@ def transport_verdict(rows):
                      f"Sonine, {tally[None]} not resolved")
     kind = "differs" if far else ("agrees" if exact else "approximation")
     return "; ".join(parts) if parts else "no rows", "; ".join(short) if short else "no rows", kind
+
+
+def csv_rows(rows):
+    """Complete rows for the CSV: nan theory columns as None (written empty: does not apply)."""
+    return [{k: (None if isinstance(v, float) and math.isnan(v) and k in COLUMNS[7:] else v) for k, v in r.items()}
+            for r in rows]
+
+
+def read_rows(rows):
+    """CSV rows (strings) back as complete rows: numbers as floats, empty cells as nan."""
+    out = []
+    for r in rows:
+        x = dict(r)
+        x["d"], x["alpha"] = int(float(r["d"])), float(r["alpha"])
+        for k in ("value", "ci") + tuple(COLUMNS[7:]):
+            x[k] = math.nan if r.get(k) in (None, "", "nan") else float(r[k])
+        out.append(x)
+    return out
+
+
+# ----------------------------------------------------------------------------- shear rheology
+RHEOLOGY_COMPONENTS = ("xx", "yy", "zz", "xy")
+
+
+def rheology_verdict(rows):
+    """(ours, short, kind) over shear_rheology rows (granboltz.rheology, as floats): each
+    component of a row with theory "exact" against it within the row's interval (✗ where one is
+    outside), the Grad rows (hard spheres, an approximation) by their largest sigma-distance."""
+    exact, far, grad = 0, [], []
+    for r in rows:
+        for name in RHEOLOGY_COMPONENTS:
+            value, ci, ref = r.get(f"P{name}_p"), r.get(f"P{name}_p_ci"), r.get(f"P{name}_p_theory")
+            if any(v is None or math.isnan(v) for v in (value, ci, ref)):
+                continue
+            z = _z(value, ref, ci)
+            if r["theory"] == "exact":
+                exact += 1
+                if abs(value - ref) > ci:
+                    far.append(f"**P{name}/p of λ = 0 at α = {r['alpha']:g}, a* = {r['shear_rate']:.3g}: "
+                               f"{value:.4f} ± {ci:.4f} vs exact {ref:.4f}**")
+            elif r["theory"] == "grad":
+                grad.append((abs(z), z, name, r))
+    parts, short = [], []
+    if exact:
+        parts.append(f"λ = 0 exact: {exact - len(far)} of {exact} components within their interval")
+        short.append(f"λ = 0 exact {exact - len(far)}/{exact}")
+    parts += far
+    if grad:
+        _, z, name, r = max(grad, key=lambda g: g[0])
+        parts.append(f"hard spheres vs the nonlinear Grad closure: largest distance {z:+.1f}σ (P{name}/p, "
+                     f"{r['thermostat']}, α = {r['alpha']:g}, a* = {r['shear_rate']:.3g})")
+        short.append(f"Grad closure (approximation) within {abs(z):.1f}σ")
+    kind = "differs" if far else ("agrees" if exact else "approximation")
+    return "; ".join(parts) or "no rows", "; ".join(short) or "no rows", kind
