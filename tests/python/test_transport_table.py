@@ -114,3 +114,22 @@ def test_a_method_is_one_function_and_unknown_ones_are_refused(monkeypatch):
     run = _run(0.5, 0.5, SHEAR, 1.0)
     with pytest.raises(ValueError, match="lambda = 0.5"):
         transport_table.relaxation_rows([run])
+
+
+def test_the_report_reads_the_csv_rows_back_and_marks_them():
+    """The section's comparisons take the CSV cells (strings, empty where a column does not apply)."""
+    from granboltz.report.document import COMPARE
+
+    rows = transport_table.csv_rows(transport_table.complete_rows([
+        transport_table.row("maxwell", 3, 0.5, "eta", "relaxation", transport.maxwell_reduced(0.5)["eta"], 0.02),
+        transport_table.row("hard_spheres", 3, 0.3, "kappa", "relaxation", 1.9, 0.1)]))
+    cells = [{k: "" if v is None else (f"{v:.6g}" if isinstance(v, float) else str(v)) for k, v in r.items()}
+             for r in rows]
+    assert cells[0]["exact"] == "" and cells[1]["sonine_standard"] == ""  # hard spheres first, maxwell second
+    blocks, verdict = COMPARE["transport_coefficients"](name="transport_coefficients", ours=cells)
+    assert verdict.kind == "agrees" and "favours modified" in blocks[1][1][0]
+    rheology = [{"model": "maxwell", "d": "3", "thermostat": "gaussian", "alpha": "0.7", "shear_rate": "0.03",
+                 "theory": "exact", "Pxx_p": "1.01", "Pxx_p_ci": "0.005", "Pxx_p_theory": "1.02",
+                 "Pxy_p": "-0.1", "Pxy_p_ci": "0.01", "Pxy_p_theory": "-0.1"}]
+    blocks, verdict = COMPARE["shear_rheology"](name="shear_rheology", ours=rheology)
+    assert verdict.kind == "differs" and "Pxx/p of λ = 0" in blocks[1][1][0]
