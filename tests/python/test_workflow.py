@@ -1,5 +1,6 @@
 """The workflow as a whole: Snakemake parses it, validates the config and plans the right jobs."""
 
+import math
 import re
 import subprocess
 
@@ -32,6 +33,8 @@ ITEM_RULES = [
     "grw05_ex7_moments", "grw05_tail_local_ex7", "grw05_tail_local_ex8", "grw05_tail_local_ex9", "rw05_moments",
     "beyond_haff", "beyond_a2", "beyond_tail", "beyond_viscoelastic", "beyond_disks_a2", "beyond_mixture",
     "beyond_rough", "beyond_hcs_tail_swpm",
+    # transport and rheology
+    "transport_coefficients", "shear_rheology",
     # weighted particles
     "grw05_tail_swpm_ex7", "grw05_tail_swpm_ex8", "grw05_tail_swpm_ex9", "grw05_tail_swpm_check",
 ]
@@ -84,9 +87,17 @@ def test_dry_run_plans_every_job(profile):
     assert counts.pop("beyond_run") == counts.pop("beyond_run_config") == beyond
     # the HCS tail with weighted particles: one run per alpha
     assert counts.pop("beyond_swpm_run") == counts.pop("beyond_swpm_run_config") == len(b["hcs_tail_swpm"]["alphas"])
+    # transport: relaxation (eta and kappa per lambda = 0 and hard-sphere alpha, eta per disk alpha),
+    # thermostatted shear flow (rates x alphas of each model) and free hard-sphere shear flow
+    t = config["transport"]
+    rx, us = t["relaxation"], t["usf"]
+    transport = 2 * len(rx["maxwell_alphas"]) + 2 * len(rx["alphas"]) + len(rx["disk_alphas"])
+    transport += len(us["maxwell_reduced_rates"]) * len(us["maxwell_alphas"]) + len(us["reduced_rates"]) * len(
+        us["alphas"]) + len(us["free_alphas"])
+    assert counts.pop("transport_run") == counts.pop("transport_run_config") == transport
     # 11 tables and the window table; TV06 Figs. 3, 4, 7 and §4; Ex. 7 moments, amplitude, RW05
-    # moments; 8 beyond (the HCS tail of weighted particles among them)
-    assert counts.pop("table_tex") == 27
+    # moments; 8 beyond (the HCS tail of weighted particles among them); 2 transport
+    assert counts.pop("table_tex") == 29
     assert counts == {"all": 1, "report": 1, **{rule: 1 for rule in ITEM_RULES}}
 
 
@@ -182,6 +193,8 @@ def snakemake_config_text(tmp_path):
     (lambda c: c["rw05"]["steady"].update(euler_steps=[3]), "rw05.steady"),
     (lambda c: c["rw05"]["crit"].update(ensembles=[4, 4]), "rw05.crit"),
     (lambda c: c["grw05"]["tails"].update(fit_window=[4.6, 4.25]), "grw05.tails"),
+    (lambda c: c["transport"]["relaxation"].update(window=[0, 99]), "transport.relaxation.window"),
+    (lambda c: c["transport"]["usf"].update(steady_from=1000), "transport.usf"),
 ])
 def test_workflow_checks_keys_across_the_config(tmp_path, spoil, message):
     config = yaml.safe_load((ROOT / "config" / "quick.yaml").read_text())
@@ -219,3 +232,40 @@ def test_mixture_and_rough_run_configs(tmp_path):
     assert run["rough"]["dsmc"]["beta"] == 0.0 and run["rough_wn"]["dsmc"]["beta"] == rough["beta"]
     assert run["rough_wn"]["dsmc"]["thermostat"] == "white_noise"
     assert len({r["seed"] for r in run.values()}) == 3
+
+
+def test_transport_run_configs(tmp_path):
+    """Prepared states, shear and schemes of the transport runs: a prepared T_xy (d = 2 and 3) or
+    heat flux under the Gaussian thermostat; lambda = 0 with the exact map; thermostatted hard-sphere
+    shear with the Strang scheme at a* nu0; free hard-sphere shear without thermostat."""
+    config = yaml.safe_load((ROOT / "config" / "quick.yaml").read_text())
+    t = config["transport"]
+    rx, us = t["relaxation"], t["usf"]
+    ra, ua = rx["alphas"][0], us["alphas"][0]
+    ma = us["maxwell_alphas"][0]
+    size = f"N={rx['ensembles']}/n={rx['particles']}"
+    usize = f"N={us['ensembles']}/n={us['particles']}"
+    rate, mrate = us["reduced_rates"][0], us["maxwell_reduced_rates"][0]
+    targets = {"eta": f"results/transport/relax_eta/hard_spheres/d3/alpha={ra}/{size}/run.yaml",
+               "eta2": f"results/transport/relax_eta/hard_spheres/d2/alpha={rx['disk_alphas'][0]}/{size}/run.yaml",
+               "kappa": f"results/transport/relax_kappa/maxwell/d3/alpha={rx['maxwell_alphas'][0]}/{size}/run.yaml",
+               "usf": f"results/transport/usf_gaussian_a{rate}/hard_spheres/d3/alpha={ua}/{usize}/run.yaml",
+               "usf0": f"results/transport/usf_gaussian_a{mrate}/maxwell/d3/alpha={ma}/{usize}/run.yaml",
+               "free": f"results/transport/usf_none_a{us['free_rate']}/hard_spheres/d3/alpha={us['free_alphas'][0]}/"
+                       f"{usize}/run.yaml"}
+    result = snakemake("--configfile", str(ROOT / "config" / "quick.yaml"), "--directory", str(tmp_path),
+                       *targets.values())
+    assert result.returncode == 0, result.stderr
+    run = {k: yaml.safe_load((tmp_path / v).read_text())["dsmc"] for k, v in targets.items()}
+    s = rx["shear_stress"]
+    assert run["eta"]["initial"]["temperature"] == [[1.0, s, 0.0], [s, 1.0, 0.0], [0.0, 0.0, 1.0]]
+    assert run["eta2"]["initial"]["temperature"] == [[1.0, s], [s, 1.0]] and run["eta2"]["geometry"] == "impact"
+    assert run["kappa"]["initial"] == {"temperature": 1.0, "heat_flux": [rx["heat_flux"], 0.0, 0.0]}
+    assert run["kappa"]["geometry"] == "uniform" and run["kappa"]["kernel"]["lambda"] == 0
+    assert all(run[k]["thermostat"] == "gaussian" for k in ("eta", "eta2", "kappa", "usf", "usf0"))
+    assert run["eta"]["majorant"] == "pairwise" and "geometry" not in run["eta"]
+    nu0 = 64 / 5 * math.sqrt(math.pi) * t["C_factor"] / (4 * math.pi)
+    assert run["usf"]["shear"]["rate"] == pytest.approx(rate * nu0) and run["usf"]["scheme"] == "strang"
+    assert run["usf0"]["shear"]["rate"] == pytest.approx(mrate) and run["usf0"]["scheme"] == "nosplit"
+    assert run["free"]["thermostat"] == "none" and run["free"]["shear"]["rate"] == us["free_rate"]
+    assert all(run[k]["steady_ci"] == "batch" for k in ("usf", "usf0", "free"))

@@ -8,9 +8,11 @@ Chapman–Enskog relation about the homogeneous cooling state (granboltz.transpo
   eta = p/(nu_Pi - q zeta) with q the exponent of T in eta (eta ~ T^q: 1 for Maxwell molecules,
   1/2 for hard spheres), so eta = p/(r_Pi - (q - 1) zeta);
 - heat flux: q/T^(3/2) decays at r_Q = nu_Q - 3 zeta/2, and kappa = (d+2) n T (1 + 2 a2)/(2 m
-  (nu_Q - (q + 1) zeta)) (the Maxwell form of transport.maxwell_coefficients; exact there, an
+  (nu_Q - 2 zeta)) (the Maxwell form of transport.maxwell_coefficients; exact there, an
   approximation for hard spheres, whose nu_Q is not a single rate), so kappa uses
-  r_Q - (q - 1/2) zeta.
+  r_Q - zeta/2 for every kernel: kappa ~ T^q and, since zeta ~ n T^(lambda/2), the Euler-order
+  d(grad T)/dt = -(1 + lambda/2) zeta grad T, which add up to 2 zeta whatever lambda (the 2 zeta*
+  of the Sonine kappa* of hard spheres).
 
 For Maxwell molecules (lambda = 0) every step is exact: the decays are single exponentials at
 the rates of transport.maxwell_rates. For hard spheres they are not (the relaxing state leaves
@@ -91,7 +93,7 @@ def viscosity_from_relaxation(run, window=None, zeta=0.0, zeta_ci=0.0, component
 def conductivity_from_relaxation(run, a2, zeta, window=None, a2_ci=0.0, zeta_ci=0.0,
                                  component=0, m=1.0):
     """kappa from the decay of a prepared heat flux q_k (default x) under the Gaussian
-    thermostat: kappa = (d+2) n T (1 + 2 a2)/(2 m (r_Q - (q - 1/2) zeta)), with the HCS a2 and
+    thermostat: kappa = (d+2) n T (1 + 2 a2)/(2 m (r_Q - zeta/2)) (any kernel), with the HCS a2 and
     cooling rate zeta at the run's T given (for Maxwell molecules exact from
     transport.maxwell_hcs_a2 and maxwell_rates, or measured). Returns decay_rate's dict with
     "kappa", "kappa_ci" (linear, each input's ci added) and "T"."""
@@ -101,7 +103,7 @@ def conductivity_from_relaxation(run, a2, zeta, window=None, a2_ci=0.0, zeta_ci=
                      window)
     d = int(section.get("dimension", 3))
     T = float(np.asarray(run.observables["temperature"].mean)[0])
-    shift = _exponent(section) - 0.5
+    shift = 0.5  # T^q of kappa and the cooling of grad T add up to 2 zeta for every kernel
     denom = out["rate"] - shift * zeta
     kappa = (d + 2) * T * (1 + 2 * a2) / (2 * m * denom)
     kappa_ci = kappa * ((out["rate_ci"] + abs(shift) * zeta_ci) / abs(denom)

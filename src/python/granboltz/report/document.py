@@ -12,6 +12,7 @@ from .render import anchor
 from .swpm import SWPM, swpm_section
 from .steady import compare_effort, compare_replicas, compare_steady
 from .tails import compare_ex7_moments, compare_tails
+from .transport import TRANSPORT, compare_shear_rheology, compare_transport_coefficients, transport_section
 from .tv06 import compare_tv06_dsmc, compare_tv06_needle, compare_tv06_temperature
 
 
@@ -30,7 +31,8 @@ COMPARE = {"convergence": compare_convergence, "rw05_table1": compare_rw05_table
            "beyond_haff": compare_beyond_haff, "beyond_a2": compare_beyond_a2, "beyond_tail": compare_beyond_tail,
            "beyond_viscoelastic": compare_beyond_viscoelastic, "beyond_disks_a2": compare_beyond_disks_a2,
            "beyond_mixture": compare_beyond_mixture, "beyond_rough": compare_beyond_rough,
-           "beyond_hcs_tail_swpm": compare_beyond_hcs_tail_swpm}
+           "beyond_hcs_tail_swpm": compare_beyond_hcs_tail_swpm,
+           "transport_coefficients": compare_transport_coefficients, "shear_rheology": compare_shear_rheology}
 
 # ----------------------------------------------------------------------------- the document
 PAPERS = {
@@ -169,12 +171,16 @@ def build_document(items, data, config, machine, profile):
     """The whole report as blocks. data: tables {csv path: rows}, published {path: rows},
     summaries {json path: dict}, bench {tsv path: seconds}, runs {h5 path: attrs}."""
     body, summary = [], []
-    for paper in dict.fromkeys(["GRW05", "RW05", "TV06"] + [it["paper"] for it in items if it["paper"] not in (BEYOND, SWPM)]):
+    for paper in dict.fromkeys(["GRW05", "RW05", "TV06"] + [it["paper"] for it in items if it["paper"] not in (BEYOND, SWPM, TRANSPORT)]):
         blocks, rows = paper_section(paper, items, data)
         body += blocks
         summary += rows
     if any(it["paper"] == BEYOND for it in items):  # the section Beyond the papers: after the papers
         blocks, rows = beyond_section(items, data, item_blocks)
+        body += blocks
+        summary += rows
+    if any(it["paper"] == TRANSPORT for it in items):  # transport and rheology, after Beyond the papers
+        blocks, rows = transport_section(items, data, item_blocks)
         body += blocks
         summary += rows
     if any(it["paper"] == SWPM for it in items):  # weighted particles, after the papers
