@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The Sonine constants of tests/test_dimension.cpp, derived with exact symbolic Gaussian moments
+"""The Sonine constants of tests/engine/test_dimension.cpp, derived with exact symbolic Gaussian moments
 (sympy; a few minutes). Run by hand: /usr/bin/python3 tests/sonine_moments.py
 
 For f = M (1 + a2 S2 + a3 S3) (S_p the Laguerre polynomials L_p^(d/2-1) of c^2, M ~ exp(-c^2))

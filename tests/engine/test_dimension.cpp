@@ -36,6 +36,7 @@
 #include "granboltz/physics/restitution/collide.hpp"
 #include "granboltz/random/rng.hpp"
 #include "granboltz/random/samplers.hpp"
+#include "configs.hpp"
 #include "test_support.hpp"
 
 using namespace granboltz;
@@ -49,22 +50,14 @@ const double kGC = 1 / (4 * M_PI);  // GRW05's normalisation of hard spheres, ke
 
 // Heated hard disks with every output that has state of its own (histogram and its components,
 // moments, steady averages); an odd n for the unpaired kick.
-const char* kHeated = R"(model: dsmc
+const std::string kHeated = std::string(R"(model: dsmc
 seed: 12
 ensembles: 7
 dsmc:
   particles: 201
   dimension: 2
   alpha: 0.6
-  beta: 0.125
-  gamma: 4
-  kernel: {lambda: 1, C: 0.0795774715459477}
-  t_end: 2
-  observe_every: 0.5
-  histogram: {shells: 12, radius: 5, component: true}
-  moments: 16
-  steady_from: 0.5
-)";
+)") + test::kHeatedStatefulOutputs;
 
 Config make(const std::vector<std::string>& sets, std::uint64_t seed, std::uint64_t ensembles) {
   std::vector<std::string> all = {"model=dsmc", "seed=" + std::to_string(seed),

@@ -9,7 +9,7 @@
 
 #include "granboltz/random/rng.hpp"
 #include "granboltz/tv06/bath.hpp"
-#include "test_tv06_support.hpp"
+#include "tv06_support.hpp"
 
 using namespace granboltz;
 using namespace granboltz::tv06;

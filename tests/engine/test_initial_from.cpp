@@ -89,8 +89,8 @@ TEST(InitialFrom, RoughMixtureContinuesWithItsSpins) {
 
 TEST(InitialFrom, MaxwellGasContinuesOnItsExactLaw) {
   // White-noise Maxwell molecules: T(t) = T_inf + (T0 - T_inf) e^{-zeta t} for the centred
-  // n-particle temperature (tests/test_support.hpp). A run of 1 continued for 2 under the same
-  // physics has at its t the law of the uninterrupted run at 1 + t.
+  // n-particle temperature (tests/support/test_support.hpp). A run of 1 continued for 2 under the
+  // same physics has at its t the law of the uninterrupted run at 1 + t.
   test::TempDir dir;
   const std::string base = "model: dsmc\nseed: 21\nensembles: 200\ndsmc:\n  particles: 500\n"
                            "  alpha: 0.5\n  beta: 1\n  gamma: 4\n"

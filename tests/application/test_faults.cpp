@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "granboltz/h5/hdf5_io.hpp"
+#include "configs.hpp"
 #include "test_support.hpp"
 
 using granboltz::H5Reader;
@@ -21,21 +22,14 @@ using granboltz::test::TempDir;
 
 namespace {
 
-const char* kDsmc = R"(model: dsmc
+const std::string kDsmcText = std::string(R"(model: dsmc
 seed: 11
 ensembles: 7
 dsmc:
   particles: 200
   alpha: 0.5
-  beta: 0.125
-  gamma: 4
-  kernel: {lambda: 1, C: 0.0795774715459477}
-  t_end: 2
-  observe_every: 0.5
-  histogram: {shells: 12, radius: 5, component: true}
-  moments: 16
-  steady_from: 0.5
-)";
+)") + granboltz::test::kHeatedStatefulOutputs;
+const char* kDsmc = kDsmcText.c_str();  // compared by address below, as the other configs
 
 const char* kIntruder = R"(model: intruder
 seed: 12

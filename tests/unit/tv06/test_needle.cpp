@@ -10,7 +10,7 @@
 
 #include "granboltz/random/rng.hpp"
 #include "granboltz/tv06/needle.hpp"
-#include "test_tv06_support.hpp"
+#include "tv06_support.hpp"
 
 using namespace granboltz;
 using namespace granboltz::tv06;

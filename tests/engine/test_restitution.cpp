@@ -24,6 +24,7 @@
 #include "granboltz/physics/restitution/collide.hpp"
 #include "granboltz/random/rng.hpp"
 #include "granboltz/random/samplers.hpp"
+#include "configs.hpp"
 #include "test_support.hpp"
 
 using namespace granboltz;
@@ -51,21 +52,13 @@ dsmc:
 
 // Heated hard spheres (global majorant, kicks between events), with the outputs that have
 // state of their own: histogram, moments, steady averages.
-const char* kHeated = R"(model: dsmc
+const std::string kHeated = std::string(R"(model: dsmc
 seed: 11
 ensembles: 7
 dsmc:
   particles: 200
   restitution: {law: viscoelastic, delta: 0.3}
-  beta: 0.125
-  gamma: 4
-  kernel: {lambda: 1, C: 0.0795774715459477}
-  t_end: 2
-  observe_every: 0.5
-  histogram: {shells: 12, radius: 5, component: true}
-  moments: 16
-  steady_from: 0.5
-)";
+)") + test::kHeatedStatefulOutputs;
 
 Vec3 unit(Vec3 x) { return (1.0 / norm(x)) * x; }
 Vec3 cross(Vec3 a, Vec3 b) {
