@@ -331,7 +331,9 @@ def test_the_docs_site_documents_every_public_module():
     package = ROOT / "src" / "python"
     modules = sorted(".".join(p.relative_to(package).with_suffix("").parts).removesuffix(".__init__")
                      for p in (package / "granboltz").rglob("*.py")
-                     if not any(part.startswith("_") and part != "__init__.py" for part in p.relative_to(package).parts))
+                     if not any(part.startswith("_") and part != "__init__.py" for part in p.relative_to(package).parts)
+                     # an old module path kept as a one-line alias is documented under its new one
+                     and "# alias for a release" not in p.read_text())
     pages = DOCS_INDEX.parent / "_generated" / "api"
     missing = [m for m in modules if not (pages / f"{m}.html").is_file()]
     assert not missing, f"the docs site has no API page for {missing} (built before `make build`?)"
