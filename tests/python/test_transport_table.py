@@ -133,3 +133,15 @@ def test_the_report_reads_the_csv_rows_back_and_marks_them():
                  "Pxy_p": "-0.1", "Pxy_p_ci": "0.01", "Pxy_p_theory": "-0.1"}]
     blocks, verdict = COMPARE["shear_rheology"](name="shear_rheology", ours=rheology)
     assert verdict.kind == "differs" and "Pxx/p of λ = 0" in blocks[1][1][0]
+
+
+def test_a_row_outside_both_sonine_intervals_says_so_and_the_elastic_limit_is_judged():
+    rows = transport_table.complete_rows([transport_table.row("hard_spheres", 3, 0.5, "D", "green_kubo", 1.70, 0.006),
+                                          transport_table.row("hard_spheres", 3, 1.0, "eta", "green_kubo", 1.017, 0.005),
+                                          transport_table.row("hard_spheres", 3, 1.0, "kappa", "relaxation", 1.25, 0.09)])
+    favoured, zs, zm = transport_table.sonine_preference(next(r for r in rows if r["alpha"] == 0.5))
+    assert favoured == "modified, neither within" and zs < zm < -3.2
+    ours, short, kind = transport_table.transport_verdict(rows)
+    assert kind == "approximation" and "0 modified Sonine, 3 lie outside both, 2 not resolved" in short
+    assert "eta* green_kubo 1.0170 ± 0.0050 vs the converged Chapman–Enskog 1.0160 (+0.6σ) and the first Sonine 1 (+10.9σ): resolved" in ours
+    assert "kappa* relaxation" in ours and ours.endswith("differs")

@@ -6,7 +6,9 @@ Raw runs:  results/transport/<case>/<model>/d<d>/alpha=<alpha>/N=<ensembles>/n=<
            <case> = relax_eta (a prepared shear stress, initial.temperature a matrix),
            relax_kappa (a prepared heat flux, initial.heat_flux), usf_gaussian_a<a*> (steady shear
            flow under the Gaussian thermostat at the reduced rate a* = a/nu or a/nu0(T0)),
-           usf_none_a<a> (steady shear flow of hard spheres without thermostat at the rate a);
+           usf_none_a<a> (steady shear flow of hard spheres without thermostat at the rate a),
+           gk (the HCS under the Gaussian thermostat with the time correlations of the stress,
+           a tagged velocity and the heat flux: Green–Kubo);
            <model> = maxwell or hard_spheres (d3 spheres, d2 disks with the impact law)
 Items:     the table transport_coefficients (granboltz.transport_table) and the table
            shear_rheology (granboltz.rheology), each with a figure, in the report section
@@ -15,13 +17,13 @@ Items:     the table transport_coefficients (granboltz.transport_table) and the 
 
 TRANSPORT = config["transport"]
 TRANSPORT_SECTION = "Transport and rheology"
-TR_RELAX, TR_USF = TRANSPORT["relaxation"], TRANSPORT["usf"]
-TRANSPORT_CASES = "relax_eta|relax_kappa|usf_gaussian_a[0-9.]+|usf_none_a[0-9.]+"
+TR_RELAX, TR_USF, TR_GK = TRANSPORT["relaxation"], TRANSPORT["usf"], TRANSPORT["green_kubo"]
+TRANSPORT_CASES = "relax_eta|relax_kappa|usf_gaussian_a[0-9.]+|usf_none_a[0-9.]+|gk"
 
 
 def check_transport(t):
     """Cross-key checks of config transport the schema cannot express; ValueError naming the key."""
-    for name, item in (("relaxation", t["relaxation"]), ("usf", t["usf"])):
+    for name, item in (("relaxation", t["relaxation"]), ("usf", t["usf"]), ("green_kubo", t["green_kubo"])):
         if not _whole(item["t_end"], item["observe_every"]):
             raise ValueError(f"transport.{name}: t_end must be a whole multiple of observe_every")
     lo, hi = t["relaxation"]["window"]
@@ -29,6 +31,8 @@ def check_transport(t):
         raise ValueError(f"transport.relaxation.window = {[lo, hi]}: need 0 <= t1 < t2 <= t_end")
     if not t["usf"]["steady_from"] < t["usf"]["t_end"]:
         raise ValueError("transport.usf: need steady_from < t_end")
+    if not t["green_kubo"]["from"] < t["green_kubo"]["t_end"]:
+        raise ValueError("transport.green_kubo: need from < t_end")
     for key in ("maxwell_reduced_rates", "reduced_rates"):
         if len(t["usf"][key]) < 2:
             raise ValueError(f"transport.usf.{key}: the extrapolation to a -> 0 needs at least 2 rates")
@@ -67,7 +71,14 @@ def transport_run_config(wildcards):
     extra = {"dimension": d}
     if lam == 0 or d == 2:  # the exact map of lambda = 0; the hard-disk impact law (spheres: the default)
         extra["geometry"] = "uniform" if lam == 0 else "impact"
-    if wildcards.case.startswith("relax"):
+    if wildcards.case == "gk":
+        item = TR_GK
+        extra["thermostat"] = "gaussian"
+        if lam == 1:
+            extra["majorant"] = "pairwise"
+        each = {"from": item["from"], "levels": item["levels"]}
+        extra["correlations"] = {"velocity": dict(each), "stress": dict(each), "heat_flux": dict(each)}
+    elif wildcards.case.startswith("relax"):
         item = TR_RELAX
         extra["thermostat"] = "gaussian"
         if lam == 1:
@@ -143,6 +154,10 @@ TR_RELAX_RUNS = (
 TR_USF_GAUSSIAN = transport_runs([f"usf_gaussian_a{a}" for a in TR_USF["maxwell_reduced_rates"]], "maxwell", 3,
                                  TR_USF["maxwell_alphas"], TR_USF) + transport_runs(
     [f"usf_gaussian_a{a}" for a in TR_USF["reduced_rates"]], "hard_spheres", 3, TR_USF["alphas"], TR_USF)
+TR_GK_RUNS = (transport_runs("gk", "maxwell", 3, TR_GK["maxwell_alphas"], TR_GK)
+              + transport_runs("gk", "maxwell", 2, TR_GK["maxwell_disk_alphas"], TR_GK)
+              + transport_runs("gk", "hard_spheres", 3, TR_GK["alphas"], TR_GK)
+              + transport_runs("gk", "hard_spheres", 2, TR_GK["disk_alphas"], TR_GK))
 TR_USF_FREE = transport_runs([f"usf_none_a{TR_USF['free_rate']}"], "hard_spheres", 3, TR_USF["free_alphas"], TR_USF)
 
 
@@ -150,6 +165,7 @@ rule transport_coefficients:
     input:
         relaxation=TR_RELAX_RUNS,
         usf=TR_USF_GAUSSIAN,
+        green_kubo=TR_GK_RUNS,
     output:
         csv=report("results/tables/transport_coefficients.csv", caption="../report/transport.rst", category=TRANSPORT_SECTION),
         png=report("figures/transport_coefficients.png", caption="../report/transport.rst", category=TRANSPORT_SECTION),
@@ -183,9 +199,10 @@ rule shear_rheology:
 
 for _rule, _name, _what, _runs in (
     (rules.transport_coefficients, "Transport coefficients",
-     "η*, κ*, μ* of hard spheres (d = 3; η* of disks, d = 2) against α from relaxation and from shear flow at "
-     "a → 0, beside the standard and modified first Sonine values; λ = 0 rows against the exact Chapman–Enskog "
-     "values", TR_RELAX_RUNS + TR_USF_GAUSSIAN),
+     "η*, κ*, μ*, D* of hard spheres (d = 3; η*, D* of disks, d = 2) against α from relaxation, from shear "
+     "flow at a → 0 and from Green–Kubo integrals of the HCS's time correlations, beside the standard and "
+     "modified first Sonine values; λ = 0 rows against the exact Chapman–Enskog values",
+     TR_RELAX_RUNS + TR_USF_GAUSSIAN + TR_GK_RUNS),
     (rules.shear_rheology, "Shear rheology",
      "P_ij/p of uniform shear flow: λ = 0 under the Gaussian thermostat against the exact rheology, hard spheres "
      "(thermostatted and free) against the nonlinear Grad closure", TR_USF_GAUSSIAN + TR_USF_FREE)):

@@ -1,6 +1,6 @@
 """Transport and rheology: the table transport_coefficients (granboltz.transport_table: rows of
 each method, the exact lambda = 0 and both first Sonine values, the verdict), its figure (eta*,
-kappa*, mu* of hard spheres against alpha with both Sonine curves; eta* of disks; lambda = 0 rows
+kappa*, mu*, D* of hard spheres against alpha with both Sonine curves; eta*, D* of disks; lambda = 0 rows
 against the exact values) and the summary with the computed verdict."""
 
 import math
@@ -17,13 +17,15 @@ from granboltz.transport_table import COLUMNS, build_table, csv_rows, transport_
 
 window = tuple(snakemake.params.window)
 rows = build_table({"relaxation": ([read_run(p) for p in snakemake.input.relaxation], {"window": window}),
-                    "usf": ([read_run(p) for p in snakemake.input.usf], {})})
+                    "usf": ([read_run(p) for p in snakemake.input.usf], {}),
+                    "green_kubo": ([read_run(p) for p in snakemake.input.green_kubo], {})})
 write_csv(csv_rows(rows), COLUMNS, snakemake.output.csv, digits=5)
 
 panels = [("hard_spheres", 3, "eta", "$\\eta^*$ (d = 3)"), ("hard_spheres", 3, "kappa", "$\\kappa^*$ (d = 3)"),
-          ("hard_spheres", 3, "mu", "$\\mu^*$ (d = 3)"), ("hard_spheres", 2, "eta", "$\\eta^*$ (d = 2)")]
+          ("hard_spheres", 3, "mu", "$\\mu^*$ (d = 3)"), ("hard_spheres", 3, "D", "$D^*$ (d = 3)"),
+          ("hard_spheres", 2, "eta", "$\\eta^*$ (d = 2)"), ("hard_spheres", 2, "D", "$D^*$ (d = 2)")]
 plt = pyplot()
-fig, axes = plt.subplots(2, 2, figsize=(7.0, 5.6), sharex=True)
+fig, axes = plt.subplots(3, 2, figsize=(7.0, 8.0), sharex=True)
 alpha_fine = np.linspace(0.2, 1.0, 81)
 markers = {"relaxation": "o", "usf": "s", "green_kubo": "^"}
 for ax, (model, d, coefficient, label) in zip(axes.ravel(), panels):
@@ -40,7 +42,7 @@ for ax, (model, d, coefficient, label) in zip(axes.ravel(), panels):
         ax.errorbar([r["alpha"]], [r["value"]], yerr=[r["ci"]], fmt=markers.get(r["method"], "d"), ms=3.5, mfc="none",
                     color=colour, capsize=1.5)
     ax.set_ylabel(label)
-for ax in axes[1]:
+for ax in axes[-1]:
     ax.set_xlabel("$\\alpha$")
 axes[0, 0].legend(fontsize=6)
 save_figure(fig, [snakemake.output.png, snakemake.output.pdf])

@@ -27,7 +27,13 @@ Methods here (granboltz.relaxation, granboltz.transport):
 - "usf": eta from steady uniform shear flow under the Gaussian thermostat extrapolated to a -> 0
   (transport.usf_viscosity). The thermostat's viscosity p/(nu_Pi - zeta) is turned into the
   Navier–Stokes p/(nu_Pi - q zeta) with the same zeta (nothing to do for lambda = 0).
-Self-diffusion D is not measured by these methods (it needs a tagged-particle observable).
+- "green_kubo": eta and D from the time correlations of the thermostatted HCS
+  (transport.green_kubo_coefficient: the normalised autocorrelation of the shear stress or of a
+  tagged velocity, integrated with the weight of a coefficient scaling as T^q, times the
+  equal-time value of the Chapman–Enskog source term: n T for eta, T/m for D, (d+2) n T (1 + 2 a2)/2m
+  for kappa and mu, d = 3). Exact for lambda = 0; for hard spheres the autocorrelation stands in
+  for the correlation with the HCS's conjugate function (equal for lambda = 0), and kappa, mu
+  take the first Sonine a2 and zeta as the relaxation rows do.
 """
 
 import math
@@ -63,20 +69,21 @@ def run_physics(run):
 
 def scales(model, d, alpha, T, gamma, C, geometry):
     """The reference scales at density 1 and m = 1: {"zeta", "a2", "q", "eta0", "kappa0"} with
-    eta0, kappa0 the elastic values the reduced coefficients divide by (transport's reduction):
+    eta0, kappa0, D0 the elastic values the reduced coefficients divide by (transport's reduction):
     lambda = 0 the exact ones at nu = |S^{d-1}| gamma C; hard spheres the first Sonine ones
-    (eta0 = p/nu0, kappa0 = d(d+2) eta0/(2(d-1))) and the first Sonine HCS zeta and a2."""
+    (eta0 = p/nu0, kappa0 = d(d+2) eta0/(2(d-1)), D0 = 2d eta0/((d+2) n m)) and the first Sonine
+    HCS zeta and a2."""
     if model == "maxwell":
         nu = (4 * math.pi if d == 3 else 2 * math.pi) * gamma * C
         elastic = transport.maxwell_coefficients(1.0, nu=nu, T=T, d=d, geometry=geometry)
         return {"zeta": transport.maxwell_rates(alpha, d, geometry)["zeta"] * nu,
                 "a2": transport.maxwell_hcs_a2(alpha, d, geometry), "q": 1.0,
-                "eta0": elastic["eta"], "kappa0": elastic["kappa"]}
+                "eta0": elastic["eta"], "kappa0": elastic["kappa"], "D0": elastic["D"]}
     nu0 = hard_sphere_nu0(T, gamma, C, d=d)
     a2 = float(first_sonine_a2(alpha, "gaussian", 1, d, geometry if d == 2 else None))
     eta0 = T / nu0
     return {"zeta": transport.hard_sphere_zeta_star(alpha, a2, d) * nu0, "a2": a2, "q": 0.5,
-            "eta0": eta0, "kappa0": d * (d + 2) * eta0 / (2 * (d - 1))}
+            "eta0": eta0, "kappa0": d * (d + 2) * eta0 / (2 * (d - 1)), "D0": 2 * d * eta0 / (d + 2)}
 
 
 def row(model, d, alpha, coefficient, method, value, ci):
@@ -138,7 +145,27 @@ def usf_rows(runs, order=2):
     return out
 
 
-METHODS = {"relaxation": relaxation_rows, "usf": usf_rows}
+def green_kubo_rows(runs):
+    """Rows of the method "green_kubo": eta* from the shear-stress, D* from the tagged-velocity and
+    (d = 3) kappa*, mu* from the heat-flux time correlation of runs in the thermostatted HCS
+    (dsmc.correlations), each integrated with its granular weight
+    (transport.green_kubo_coefficient; kappa and mu with the a2 and zeta of `scales`)."""
+    out = []
+    for run in runs:
+        model, d, alpha, T, gamma, C, geometry = run_physics(run)
+        s = scales(model, d, alpha, T, gamma, C, geometry)
+        path = getattr(run, "path", run)
+        wanted = [("eta", s["eta0"]), ("D", s["D0"])]
+        if d == 3:
+            wanted += [("kappa", s["kappa0"])] + ([("mu", T * s["kappa0"])] if s["zeta"] > 0 or s["a2"] != 0 else [])
+        for coefficient, reference in wanted:
+            value, ci = transport.green_kubo_coefficient(path, coefficient, T=T, zeta=s["zeta"], q=s["q"], d=d,
+                                                         a2=s["a2"])
+            out.append(row(model, d, alpha, coefficient, "green_kubo", value / reference, ci / reference))
+    return out
+
+
+METHODS = {"relaxation": relaxation_rows, "usf": usf_rows, "green_kubo": green_kubo_rows}
 
 
 # ----------------------------------------------------------------------------- theory and table
@@ -183,13 +210,42 @@ def _z(value, ref, ci):
 
 def sonine_preference(r):
     """For a hard-sphere row: (favoured version or None when unresolved, z_standard,
-    z_modified), the z signed sigma-distances of the value from each version."""
+    z_modified), the z signed sigma-distances of the value from each version. The favoured
+    version is the closer one, named "<version>, neither within" when the value lies outside its
+    interval around both ("neither within" alone where the versions are not resolved)."""
     zs, zm = _z(r["value"], r["sonine_standard"], r["ci"]), _z(r["value"], r["sonine_modified"], r["ci"])
     if math.isnan(zs) or math.isnan(zm):
         return None, zs, zm
     if abs(r["sonine_standard"] - r["sonine_modified"]) < r["ci"]:
-        return None, zs, zm  # the versions part by less than the interval: not resolved
-    return ("standard" if abs(zs) < abs(zm) else "modified"), zs, zm
+        # the versions part by less than the interval: not resolved (and said so if outside both)
+        return (None if min(abs(zs), abs(zm)) <= LAMBDA_P else "neither within"), zs, zm
+    closer = "standard" if abs(zs) < abs(zm) else "modified"
+    return (closer if min(abs(zs), abs(zm)) <= LAMBDA_P else f"{closer}, neither within"), zs, zm
+
+
+def preference_text(favoured):
+    """sonine_preference's first value in words: the favoured version, or why there is none."""
+    return {None: "not resolved", "neither within": "not resolved, neither within"}.get(favoured, favoured)
+
+
+# The elastic limit: the Chapman–Enskog eta, kappa and D of elastic hard spheres (d = 3) exceed
+# their first Sonine values by these factors, the converged Sonine series of rigid spheres (eta,
+# kappa: Chapman & Cowling, The Mathematical Theory of Non-Uniform Gases, 3rd ed. 1970; D: the
+# dilute-limit value the hard-sphere molecular-dynamics literature quotes, e.g. Erpenbeck & Wood,
+# Phys. Rev. A 43, 4254 (1991)).
+ELASTIC_HARD_SPHERES = {"eta": 1.016034, "kappa": 1.025218, "D": 1.01896}
+
+
+def elastic_limit(rows):
+    """The alpha = 1 hard-sphere rows (d = 3) with a converged elastic value: [(row, factor, z,
+    z_sonine)], z the sigma-distance from the Chapman–Cowling factor and z_sonine from the first
+    Sonine value 1: the elastic difference is resolved where |z| <= lambda_p < |z_sonine|."""
+    out = []
+    for r in rows:
+        factor = ELASTIC_HARD_SPHERES.get(r["coefficient"])
+        if r["model"] == "hard_spheres" and r["d"] == 3 and r["alpha"] == 1.0 and factor:
+            out.append((r, factor, _z(r["value"], factor, r["ci"]), _z(r["value"], 1.0, r["ci"])))
+    return out
 
 
 def transport_verdict(rows):
@@ -212,14 +268,21 @@ def transport_verdict(rows):
     tally = {"standard": 0, "modified": 0, None: 0}
     for r in hs:
         favoured, zs, zm = sonine_preference(r)
-        tally[favoured] += 1
-        which = f"favours {favoured}" if favoured else "not resolved"
+        tally[favoured] = tally.get(favoured, 0) + 1
+        which = f"favours {favoured}" if favoured and favoured != "neither within" else preference_text(favoured)
         parts.append(f"{r['coefficient']}* {r['method']} d = {r['d']} α = {r['alpha']:g}: {r['value']:.4f} ± "
                      f"{r['ci']:.4f} vs standard {r['sonine_standard']:.4f} ({zs:+.1f}σ), modified "
                      f"{r['sonine_modified']:.4f} ({zm:+.1f}σ): {which}")
     if hs:
+        apart = sum(v for k, v in tally.items() if k and k.endswith("neither within"))
+        tally[None] += tally.get("neither within", 0)
         short.append(f"hard spheres: {tally['standard']} rows favour standard, {tally['modified']} modified "
-                     f"Sonine, {tally[None]} not resolved")
+                     f"Sonine, {apart} lie outside both, {tally[None]} not resolved")
+    for r, factor, z, z1 in elastic_limit(rows):
+        resolved = abs(z) <= LAMBDA_P < abs(z1)
+        parts.append(f"elastic limit: {r['coefficient']}* {r['method']} {r['value']:.4f} ± {r['ci']:.4f} vs the "
+                     f"converged Chapman–Enskog {factor:.4f} ({z:+.1f}σ) and the first Sonine 1 ({z1:+.1f}σ): "
+                     + ("resolved" if resolved else "not resolved" if abs(z) <= LAMBDA_P else "differs"))
     kind = "differs" if far else ("agrees" if exact else "approximation")
     return "; ".join(parts) if parts else "no rows", "; ".join(short) if short else "no rows", kind
 

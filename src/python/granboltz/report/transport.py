@@ -4,14 +4,16 @@ whose verdicts granboltz.transport_table computes."""
 
 import math
 
-from ..transport_table import RHEOLOGY_COMPONENTS, read_rows, rheology_verdict, sonine_preference, transport_verdict
+from ..transport_table import (RHEOLOGY_COMPONENTS, preference_text, read_rows, rheology_verdict, sonine_preference,
+                               transport_verdict)
 from .numbers import DASH, Verdict, marked, num, pm
 
 TRANSPORT = "Transport and rheology"
 INTRO = ("Navier–Stokes transport coefficients of the homogeneous cooling state and the rheology of uniform shear "
          "flow (`dsmc.shear`), measured with the Gaussian thermostat: η* from the relaxation of a prepared shear "
          "stress and from steady shear flow extrapolated to a → 0, κ* and μ* from the relaxation of a prepared heat "
-         "flux (docs/physics.md; `granboltz.relaxation`, `granboltz.transport`). Maxwell molecules (λ = 0, "
+         "flux, and η*, D*, κ*, μ* from Green–Kubo integrals of the time correlations of the thermostatted HCS "
+         "(`dsmc.correlations`; docs/physics.md; `granboltz.relaxation`, `granboltz.transport`). Maxwell molecules (λ = 0, "
          "`geometry: uniform`) are exact Boltzmann results and the ✓/✗ check; hard spheres are compared with the "
          "standard (Brey–Dufty–Kim–Santos 1998, Garzó–Dufty 1999) and the modified (Garzó–Santos–Montanero 2007) "
          "first Sonine approximations. Reduced as in the literature: each coefficient over its elastic value "
@@ -33,7 +35,7 @@ def compare_transport_coefficients(name, ours, published=None, **_):
         favoured = DASH
         if r["model"] == "hard_spheres":
             which, zs, zm = sonine_preference(r)
-            favoured = f"{which or 'not resolved'} ({zs:+.1f}σ / {zm:+.1f}σ)"
+            favoured = f"{preference_text(which)} ({zs:+.1f}σ / {zm:+.1f}σ)"
         elif not math.isnan(r["exact"]):
             z = (r["value"] - r["exact"]) / (r["ci"] / 3.2) if r["ci"] > 0 else 0.0
             favoured = f"exact {z:+.1f}σ"
@@ -50,8 +52,12 @@ def compare_transport_coefficients(name, ours, published=None, **_):
             "by the Chapman–Enskog form c(c² − 5/2) f_M; for λ = 0 that does not matter (the degree-3 moments "
             "close), for hard spheres slow particles collide less and the decay is slower, so κ* and μ* of hard "
             "spheres by relaxation lean high: the elastic row (α = 1, Chapman–Enskog κ* = 1.025 in these units) "
-            "shows by how much. η* relaxes from an anisotropic Maxwellian, which is the Chapman–Enskog form. D* "
-            "is not measured by these methods (no tagged-particle observable yet).")
+            "shows by how much. η* relaxes from an anisotropic Maxwellian, which is the Chapman–Enskog form. "
+            "Green–Kubo rows integrate the normalised autocorrelation of the flux (stress, tagged velocity, heat "
+            "flux) with its Chapman–Enskog weight, to six of its own decay times, times the exact source term "
+            "(nT, T/m, (d+2)nT(1+2a2)/2m): exact for λ = 0; for hard spheres the autocorrelation stands in for "
+            "the correlation with the HCS's conjugate function. κ*'s weight e^{ζt/2} grows, so its interval is the "
+            "widest.")
     return [("table", header, body), ("ul", [text + ".", note])], Verdict(kind, short)
 
 
