@@ -40,15 +40,15 @@ def __getattr__(name):
     # read_run, RunReadError and Study on the package itself, imported on first use (h5py, yaml;
     # pandas for Study.table).
     if name == "read_run":
-        from .run import read_run
+        from .output.run import read_run
 
         return read_run
     if name == "Study":
-        from .study_table import Study
+        from .study.table import Study
 
         return Study
     if name == "RunReadError":
-        from .io import RunReadError
+        from .output.io import RunReadError
 
         return RunReadError
     if name in ("simulate", "Simulation", "ConfigError", "SimulationBusyError"):

@@ -41,7 +41,7 @@ alpha = 0.7 and 0.5, beta = 0); under white noise they find -2.5 % (beta = 0), -
 
 import numpy as np
 
-from .theory.dimension import check_dimension, check_geometry, run_geometry
+from ..theory.dimension import check_dimension, check_geometry, run_geometry
 
 KAPPA_SPHERE = 0.4  # kappa of a uniform solid sphere, I = m sigma^2/10
 KAPPA_DISK = 0.5  # kappa of a uniform disk, I = m sigma^2/8

@@ -18,8 +18,8 @@ import tempfile
 
 import yaml
 
-from .study_grid import check_replicas, full_grid, set_key
-from .study_yaml import MAX_DEPTH, MAX_NODES, StudyError, one_line, read_text, show, load_yaml
+from .grid import check_replicas, full_grid, set_key
+from .safe_yaml import MAX_DEPTH, MAX_NODES, StudyError, one_line, read_text, show, load_yaml
 
 _NAME = re.compile(r"[A-Za-z0-9_-]+")
 _HASH = re.compile(r"[0-9a-f]{12}")
@@ -163,7 +163,7 @@ def find_binary():
     """The granboltz simulator: $GRANBOLTZ_BIN, else the one installed with this package (pip
     install .), else build/granboltz of this source tree, else `granboltz` on PATH (absolute
     path); StudyError if none is executable."""
-    from ._cli import simulator
+    from ..lib.cli import simulator
 
     env = os.environ.get("GRANBOLTZ_BIN")
     if env:

@@ -7,7 +7,7 @@ paper's columns first, then ours).
 
 import numpy as np
 
-from .theory import expected_error, run_analytic_temperature
+from ..theory import expected_error, run_analytic_temperature
 
 
 def cf_column(rows, key, cf):

@@ -8,8 +8,8 @@ import math
 import numpy as np
 
 from .tables import cf_column
-from .theory.dimension import dsmc_geometry
-from .theory import LAMBDA_P, dsmc_physics, scheme_steady_temperature, uncentred_expectation
+from ..theory.dimension import dsmc_geometry
+from ..theory import LAMBDA_P, dsmc_physics, scheme_steady_temperature, uncentred_expectation
 
 
 # ----------------------------------------------------------------------------- RW05 Tables 3-6

@@ -6,16 +6,17 @@ of granboltz.maxwell_hierarchy.  RW05 §4 (Fig. 3): <|v - V|^4>(t) and Crit(t) a
 curves.  The tail amplitude a of Ex. 7 from the growth of the exact moments (tail_theory).
 Confidence half-widths are Z = 3.2 standard errors (GRW05 §5.1); sigma = (ours - exact) / se.
 """
+import math
 from fractions import Fraction
 from math import pi, sqrt
 
 import numpy as np
 
-from .theory import maxwell_hierarchy as mh
-from .theory.dimension import check_dimension, check_maxwellian_start
-from .io import open_run, read_config, read_finite
-from .theory import LAMBDA_P
-from .theory.tail_theory import amplitude_and_chi_from_moments, amplitude_from_moments, tail_amplitude
+from ..theory import maxwell_hierarchy as mh
+from ..theory.dimension import check_dimension, check_maxwellian_start
+from ..output.io import open_run, read_config, read_finite
+from ..theory import LAMBDA_P
+from ..theory.tail_theory import amplitude_and_chi_from_moments, amplitude_from_moments, tail_amplitude
 
 Z = LAMBDA_P
 MOMENT_COLUMNS = ["p", "exact", "ours", "ci", "sigma", "exact_steady"]
@@ -92,7 +93,6 @@ def amplitude_rows(alpha, beta, nu, pmax=40, lam=0.0, d=3):
 def rw05_moment_rows(run, times=None):
     """RW05 §4: rows of <|v - V|^4>(t) (the run's /moment_4 when present) and Crit(t) (crit_of_means)
     against the exact curves, at the observation times nearest to `times` (default: all)."""
-    from .dsmc import crit_of_means
 
     alpha, beta, nu, T0 = hierarchy_physics(run.config)
     exact = mh.time_dependent_moments(2, alpha, beta, nu, T0)
@@ -137,3 +137,20 @@ def crit_verdict(rows, bias=None):
         return f"agrees: exact Crit(t) inside the {head} band at all {len(rows)} t (max |σ| = {zmax:.1f}{extra})"
     return (f"differs: {len(out)} of {len(rows)} point(s) outside the {head} band (max |σ| = {zmax:.1f}"
             f"{extra})")
+
+
+def crit_of_means(run):
+    """Crit(t) of RW05 eq. (29) evaluated at the ensemble means of the moments (the functional of
+    the approximated solution, as the paper plots it), and an approximate confidence half-width
+    from that of the fourth moment, the dominant term: (Crit, ci), each [M+1].
+
+    Crit = (1/T) (1/2 |P - p I|_F^2 + 2/(5T) |q|^2 + gamma^2 / (120 T^2))^(1/2), p = tr P / 3.
+    (The simulator's /crit is the mean of the per-ensemble Crit, biased upward by the sampling
+    noise of n particles: about 1/sqrt(n) at t = 0.)"""
+    P, q = run.moments["pressure_tensor/mean"], run.moments["heat_flux/mean"]
+    g, g_ci, T = run.moments["fourth_moment/mean"], run.moments["fourth_moment/ci"], run.T_centred
+    p = np.trace(P, axis1=1, axis2=2) / 3.0
+    dev = P - p[:, None, None] * np.eye(3)
+    crit = np.sqrt(0.5 * np.sum(dev**2, axis=(1, 2)) + 2.0 / (5.0 * T) * np.sum(q**2, axis=1)
+                   + g**2 / (120.0 * T**2)) / T
+    return crit, g_ci / (math.sqrt(120.0) * T**2)

@@ -8,7 +8,7 @@ import math
 import numpy as np
 from scipy import stats
 
-from .theory import LAMBDA_P
+from ..theory import LAMBDA_P
 
 
 def rebin(hist, factor):

@@ -7,8 +7,8 @@ import math
 
 import numpy as np
 
-from .io import open_run, read_config, read_dataset, run_attrs
-from .theory import LAMBDA_P, exact_temperature_ratio, gaussian_temperature_ratio
+from ..output.io import open_run, read_config, read_dataset, run_attrs
+from ..theory import LAMBDA_P, exact_temperature_ratio, gaussian_temperature_ratio
 
 
 # ----------------------------------------------------------------------------- simulator output

@@ -6,8 +6,8 @@ import re
 import stat
 import subprocess
 
-from .study_spec import RUNTIME_KEYS
-from .study_yaml import StudyError, file_kind, lstat, one_line
+from .spec import RUNTIME_KEYS
+from .safe_yaml import StudyError, file_kind, lstat, one_line
 
 
 def run_difference(config, stored, where=""):
@@ -72,7 +72,7 @@ def stored_identity_problem(path, config, expected=None):
     """None when the output at `path` (a regular file that `granboltz verify` passed) is the run
     of the point `config` (expected: its run_config), else a short reason: read its stored
     config and shard only."""
-    from .io import RunReadError, open_run, read_config
+    from ..output.io import RunReadError, open_run, read_config
 
     try:
         with open_run(path) as f:

@@ -5,12 +5,12 @@ averages of RW05 §4.2, and Crit(t) of RW05 eq. (29) from the ensemble-mean mome
 (For a general-purpose reader of any granboltz output see granboltz.run.read_run.)
 """
 
-import math
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from .io import open_run, read_config, read_dataset, read_finite, reading, run_attrs, text
+from ..analysis.moment_checks import crit_of_means  # noqa: F401 (its users import it from here too)
+from ..output.io import open_run, read_config, read_dataset, read_finite, reading, run_attrs, text
 
 # Temperature estimator behind the published error tables: phi(v) = |v|^2 / 3 (RW05 §4.1). Its
 # exact finite-n bias matches the published E_max (about 5.7/n in GRW05 Example 3); the centred
@@ -138,21 +138,3 @@ def read_steady(path):
             **run_attrs(f),
         }
         return out
-
-
-def crit_of_means(run):
-    """Crit(t) of RW05 eq. (29) evaluated at the ensemble means of the moments (the functional of
-    the approximated solution, as the paper plots it), and an approximate confidence half-width
-    from that of the fourth moment, the dominant term: (Crit, ci), each [M+1].
-
-    Crit = (1/T) (1/2 |P - p I|_F^2 + 2/(5T) |q|^2 + gamma^2 / (120 T^2))^(1/2), p = tr P / 3.
-    (The simulator's /crit is the mean of the per-ensemble Crit, biased upward by the sampling
-    noise of n particles: about 1/sqrt(n) at t = 0.)"""
-    P, q = run.moments["pressure_tensor/mean"], run.moments["heat_flux/mean"]
-    g, g_ci, T = run.moments["fourth_moment/mean"], run.moments["fourth_moment/ci"], run.T_centred
-    p = np.trace(P, axis1=1, axis2=2) / 3.0
-    dev = P - p[:, None, None] * np.eye(3)
-    crit = np.sqrt(0.5 * np.sum(dev**2, axis=(1, 2)) + 2.0 / (5.0 * T) * np.sum(q**2, axis=1)
-                   + g**2 / (120.0 * T**2)) / T
-    return crit, g_ci / (math.sqrt(120.0) * T**2)
-

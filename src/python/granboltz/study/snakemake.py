@@ -11,7 +11,7 @@ import subprocess
 import sys
 import threading
 
-from .study_yaml import StudyError, one_line
+from .safe_yaml import StudyError, one_line
 
 SNAKEFILE = pathlib.Path(__file__).resolve().with_name("study.smk")
 _PYTHON = "/usr/bin/python3"

@@ -10,7 +10,7 @@ import pathlib
 import stat
 import tempfile
 
-from .study_yaml import StudyError, file_kind, lstat
+from .safe_yaml import StudyError, file_kind, lstat
 
 
 _PARTS = ("points", "runs", "logs", "damaged", ".snakemake")

@@ -12,10 +12,10 @@ import math
 
 import numpy as np
 
-from .theory.dimension import check_dimension, dsmc_geometry, initial_temperature
-from .theory.maxwell_hierarchy import hcs_a2, hcs_scaled_moments, steady_a2_formula
-from .theory.sonine import cooling_rate, first_sonine_a2, hcs_moment_threshold, maxwell_a3, second_sonine
-from .theory import LAMBDA_P
+from ..theory.dimension import check_dimension, dsmc_geometry, initial_temperature
+from ..theory.maxwell_hierarchy import hcs_a2, hcs_scaled_moments, steady_a2_formula
+from ..theory.sonine import cooling_rate, first_sonine_a2, hcs_moment_threshold, maxwell_a3, second_sonine
+from ..theory import LAMBDA_P
 
 Z = LAMBDA_P  # every confidence half-width of the project (GRW05 §5.1)
 

@@ -17,7 +17,7 @@ local_verdict states whether b(r) is consistent with theory where the data reach
 import numpy as np
 
 from .local_exponent import Z, data_limit, far_estimate, local_exponent, pool_shells
-from .theory.tail_theory import eq38_slope, example_tail
+from ..theory.tail_theory import eq38_slope, example_tail
 
 SUMMARY_KEYS = ["example", "lambda", "theory_b", "a_theory", "b_local_far", "b_local_far_ci", "r_far",
                 "r_far_thermal", "f_ratio_far", "r_limit", "a_fit", "a_fit_ci", "chi_fit", "offset", "b_local_expected",

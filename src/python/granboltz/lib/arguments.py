@@ -10,7 +10,7 @@ import stat
 import numpy as np
 import yaml
 
-from . import _core
+from .. import _core
 
 ConfigError = _core.ConfigError
 

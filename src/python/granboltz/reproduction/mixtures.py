@@ -31,7 +31,7 @@ import math
 
 import numpy as np
 
-from .theory.dimension import check_dimension, check_geometry, dsmc_geometry
+from ..theory.dimension import check_dimension, check_geometry, dsmc_geometry
 
 
 def _matrix(alpha, s):

@@ -24,10 +24,10 @@ import math
 import numpy as np
 from scipy.optimize import curve_fit
 
-from .theory.dimension import check_dimension, check_geometry
-from .local_exponent import Z, log_bin_model, shell_quadrature, pool_shells, tail_fit
-from .theory.sonine import first_sonine_a2
-from .tail_swpm import effective_counts, resolved_depth, resolved_limit, shell_profile
+from ..theory.dimension import check_dimension, check_geometry
+from ..analysis.local_exponent import Z, log_bin_model, shell_quadrature, pool_shells, tail_fit
+from ..theory.sonine import first_sonine_a2
+from ..analysis.tail_swpm import effective_counts, resolved_depth, resolved_limit, shell_profile
 
 HCS_TAIL_COLUMNS = ["alpha", "b_swpm", "b_swpm_ci", "A_swpm", "A_theory", "depth_swpm"]
 

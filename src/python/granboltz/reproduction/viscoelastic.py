@@ -24,8 +24,8 @@ import math
 import numpy as np
 
 from .beyond import Z
-from .theory.dimension import check_dimension, initial_temperature
-from .theory.sonine import cooling_rate
+from ..theory.dimension import check_dimension, initial_temperature
+from ..theory.sonine import cooling_rate
 
 C1 = math.gamma(0.6) * math.sqrt(math.pi) / (2**0.2 * 5**0.4 * math.gamma(2.1))  # 1.1534489
 C2 = 0.6 * C1**2

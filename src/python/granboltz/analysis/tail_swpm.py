@@ -18,7 +18,7 @@ import numpy as np
 
 from .local_exponent import Z, far_estimate, local_exponent, pool_shells, tail_fit
 from .tail_local import shell_density
-from .theory.tail_theory import example_tail
+from ..theory.tail_theory import example_tail
 
 SWPM_KEYS = ["example", "theory_b", "a_theory", "b_swpm", "b_swpm_ci", "a_swpm", "a_swpm_ci", "chi_swpm",
              "depth_swpm", "r_depth_swpm", "b_local_far_swpm", "b_local_far_swpm_ci", "r_far_swpm",

@@ -56,13 +56,13 @@ import sys
 
 import yaml
 
-from .study_folder import LOCK_NAME, move_aside, runner_lock, write_if_changed, check_folder
-from .study_grid import full_grid
-from .study_runs import check_runs, identity_problem, not_regular, run_difference, verify_runs
-from .study_snakemake import SNAKEFILE, Stopped, unlock_stale, run_snakemake, snakemake_command
-from .study_spec import (MAX_NAME, MAX_POINTS, cell_text, check_point_list, canonical, check_points, check_study, expand,
+from .folder import LOCK_NAME, move_aside, runner_lock, write_if_changed, check_folder
+from .grid import full_grid
+from .runs import check_runs, identity_problem, not_regular, run_difference, verify_runs
+from .snakemake import SNAKEFILE, Stopped, unlock_stale, run_snakemake, snakemake_command
+from .spec import (MAX_NAME, MAX_POINTS, cell_text, check_point_list, canonical, check_points, check_study, expand,
                          find_binary, load_study, point_hash, point_text, run_config, study_folder)
-from .study_yaml import MAX_BYTES, MAX_DEPTH, MAX_NODES, StudyError, lstat, one_line, show, load_yaml
+from .safe_yaml import MAX_BYTES, MAX_DEPTH, MAX_NODES, StudyError, lstat, one_line, show, load_yaml
 
 # The parts live in study_yaml (reading), study_spec (the study file and its points), study_folder,
 # study_runs (is a run sound and its point's), study_snakemake and study_table (Study); their
@@ -114,7 +114,7 @@ def run(study_file, cores=None, profile=None, into=None, quiet=False, extra=(), 
     limit). Returns the Study. Raises StudyError for a bad study file or folder, no simulator or
     another runner of the study alive (before anything is written), subprocess.CalledProcessError
     when Snakemake fails. SIGTERM and SIGINT stop Snakemake and the simulator first (run_snakemake)."""
-    from .study_table import Study
+    from .table import Study
 
     if max_points is not None and (isinstance(max_points, bool) or not isinstance(max_points, int) or max_points < 1):
         raise StudyError(f"max_points = {show(max_points, 40)}: must be an integer >= 1 (or None: no limit)")
@@ -148,7 +148,7 @@ def run(study_file, cores=None, profile=None, into=None, quiet=False, extra=(), 
 def __getattr__(name):
     # granboltz.study.Study: the reader lives in study_table (pandas only when a table is made)
     if name == "Study":
-        from .study_table import Study
+        from .table import Study
 
         return Study
     raise AttributeError(f"module 'granboltz.study' has no attribute {name!r}")
@@ -194,11 +194,11 @@ def main(argv=None):
             run(args.study, cores=args.cores, profile=args.profile, into=args.into, extra=extra,
                 max_points=args.max_points)
         elif args.command == "status":
-            from .study_table import Study
+            from .table import Study
 
             return _status(Study(args.study, into=args.into))
         else:
-            from .study_table import Study
+            from .table import Study
 
             table = Study(args.study, into=args.into).table(aggregate=False if args.replicas else None)
             if args.csv:

@@ -14,8 +14,8 @@ import math
 import numpy as np
 
 from .beyond import run_alpha
-from .theory.dimension import check_dimension, check_geometry
-from .theory.sonine import first_sonine_a2, second_sonine
+from ..theory.dimension import check_dimension, check_geometry
+from ..theory.sonine import first_sonine_a2, second_sonine
 
 # Allowances of the hard-disk verdict (as tests/test_dimension.cpp): the error of van Noije-Ernst's
 # a2 is taken as GAP_FACTOR times its distance to second Sonine (the next terms no larger than the

@@ -15,12 +15,12 @@ import pathlib
 
 import numpy as np
 
-from .study_folder import check_folder
-from .study_grid import full_grid, replica_seeds
-from .study_runs import identity_problem, not_regular
-from .study_spec import cell_text, study_parser, canonical, expand, load_study, point_text, run_config, study_folder
-from .study_yaml import MAX_BYTES, StudyError, lstat, one_line, read_text
-from .theory import LAMBDA_P
+from .folder import check_folder
+from .grid import full_grid, replica_seeds
+from .runs import identity_problem, not_regular
+from .spec import cell_text, study_parser, canonical, expand, load_study, point_text, run_config, study_folder
+from .safe_yaml import MAX_BYTES, StudyError, lstat, one_line, read_text
+from ..theory import LAMBDA_P
 
 _MAX_INDEX_BYTES = 64 * MAX_BYTES  # an index of MAX_POINTS points with long values fits
 
@@ -95,9 +95,9 @@ class Study:
 
     def _read(self, h):
         """(Run, None) for a sound run of the point `h`, else (None, what is wrong)."""
-        from .io import RunReadError
-        from .run import read_run
-        from .study_runs import brief
+        from ..output.io import RunReadError
+        from ..output.run import read_run
+        from .runs import brief
 
         path = self.run_path(h)
         problem = not_regular(path)
@@ -188,7 +188,7 @@ class Study:
     def plot(self, x, y, ax=None, theory=None, **table_options):
         """A quick look: column y of table() against column x, with y_ci as error bars where the
         table has it, and `theory` (a function of the x values) dashed. Returns the axes."""
-        from .frames import plot_columns
+        from ..output.frames import plot_columns
 
         return plot_columns(self.table(**table_options), x, y, ax=ax, theory=theory)
 

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .theory import LAMBDA_P
+from ..theory import LAMBDA_P
 
 
 @dataclass(frozen=True)
@@ -63,7 +63,7 @@ class FiniteSizeFit:
         return self.T_inf + self.c / np.asarray(n, dtype=float)
 
     def __str__(self):
-        from .summary import format_pm
+        from ..output.summary import format_pm
 
         return (f"T_inf = {format_pm(self.T_inf, self.z * self.se_T_inf)}, c = {format_pm(self.c, self.z * self.se_c)}"
                 f" (± {self.z:g} se, {len(self.n)} sizes, chi2/dof = {self.chi2_dof:.2f})")

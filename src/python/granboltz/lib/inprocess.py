@@ -21,13 +21,13 @@ import numpy as np
 import yaml
 
 try:
-    from . import _core
+    from .. import _core
 except ImportError as e:  # pragma: no cover - the message is the point
     raise ImportError(
         "granboltz._core, the simulator's Python extension, is not built: run `make build` "
         f"(needs Debian's pybind11-dev and python3-dev; see docs/python.md) ({e})") from e
 
-from .io import RunReadError
+from ..output.io import RunReadError
 
 ConfigError = _core.ConfigError
 ConfigError.__module__ = "granboltz"
@@ -42,8 +42,8 @@ SimulationBusyError.__doc__ = (
 
 __all__ = ["simulate", "Simulation", "ConfigError", "SimulationBusyError"]
 
-from ._arguments import MAX_THREADS, config_text, integer_argument, path_argument, real_array, shorten  # noqa: E402
-from ._progress import ProgressBar, sigint_pauses  # noqa: E402
+from .arguments import MAX_THREADS, config_text, integer_argument, path_argument, real_array, shorten  # noqa: E402
+from .progress import ProgressBar, sigint_pauses  # noqa: E402
 
 
 def simulate(config, output=None, threads=None, progress=True):
@@ -71,7 +71,7 @@ def simulate(config, output=None, threads=None, progress=True):
     the process then dies of SIGTERM; a handler of your own or an ignored SIGTERM is respected
     as for SIGINT.
     """
-    from .run import read_run
+    from ..output.run import read_run
 
     text, origin, config_path = config_text(config)
     if threads is not None:
@@ -124,7 +124,7 @@ def _observation(scalars, moments, d, prefix=""):
     for p, m in enumerate(moments, start=1):
         out[f"{prefix}moment_{2 * p}"] = float(m)
     if len(moments) >= 2:
-        from .theory.sonine import sonine_from_moments
+        from ..theory.sonine import sonine_from_moments
 
         a2, a3 = sonine_from_moments(moments[0], moments[1], moments[2] if len(moments) >= 3 else None, d)
         out[prefix + "a2"] = float(a2)

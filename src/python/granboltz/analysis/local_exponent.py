@@ -27,7 +27,7 @@ import yaml
 from scipy.optimize import curve_fit
 from scipy.special import logsumexp
 
-from .theory import LAMBDA_P
+from ..theory import LAMBDA_P
 
 Z = LAMBDA_P
 _NODES, _WEIGHTS = np.polynomial.legendre.leggauss(12)

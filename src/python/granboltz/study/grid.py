@@ -4,7 +4,7 @@ seeds) that expands as a last grid key `seed`."""
 
 import copy
 
-from .study_yaml import StudyError, one_line, show
+from .safe_yaml import StudyError, one_line, show
 
 MAX_REPLICAS = 10_000
 
