@@ -2,7 +2,7 @@
 
 import math
 
-from granboltz import beyond
+from granboltz.reproduction import beyond
 from granboltz.report.beyond import compare_beyond_a2, compare_beyond_haff, compare_beyond_tail
 from granboltz.report.document import build_document
 

@@ -1,5 +1,5 @@
 """The mixture and rough-sphere items of "Beyond the papers": rows, intervals and verdicts
-(granboltz.mixtures.mixture_rows, granboltz.rough.rough_rows), the report's comparisons, and the
+(granboltz.reproduction.mixtures.mixture_rows, granboltz.reproduction.rough.rough_rows), the report's comparisons, and the
 two workflow scripts on synthetic runs."""
 
 import math
@@ -8,7 +8,7 @@ import types
 import numpy as np
 import pytest
 
-from granboltz import mixtures, rough
+from granboltz.reproduction import mixtures, rough
 from granboltz.report.beyond import compare_beyond_mixture, compare_beyond_rough
 from granboltz.report.numbers import verdict_kind
 

@@ -1,5 +1,5 @@
 """Hard disks (d = 2) in "Beyond the papers": the references, the energy balance, the rows, their
-judgement and verdict (granboltz.disks), and the report's comparison."""
+judgement and verdict (granboltz.reproduction.disks), and the report's comparison."""
 
 import math
 import types
@@ -7,7 +7,7 @@ import types
 import numpy as np
 import pytest
 
-from granboltz import disks
+from granboltz.reproduction import disks
 from granboltz.report.beyond import compare_beyond_disks_a2
 
 

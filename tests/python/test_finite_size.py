@@ -1,4 +1,4 @@
-"""granboltz.finite_size: the fit T(n) = T_inf + c/n recovers a known line, its intervals cover at
+"""granboltz.analysis.finite_size: the fit T(n) = T_inf + c/n recovers a known line, its intervals cover at
 their nominal level over synthetic replicas (within binomial limits, fixed seed), and on real
 Maxwell-molecule runs it covers the exact T_inf = 8/3 and c = -T_inf of GRW05 Example 3."""
 
@@ -11,8 +11,8 @@ import pytest
 import yaml
 from scipy import stats
 
-from granboltz.finite_size import fit_finite_size
-from granboltz.run import read_run
+from granboltz.analysis.finite_size import fit_finite_size
+from granboltz.output.run import read_run
 from conftest import ROOT
 
 BINARY = os.environ.get("GRANBOLTZ_BIN", str(ROOT / "build" / "granboltz"))

@@ -1,4 +1,4 @@
-"""Run.to_xarray, Run.to_dataframe and the quick looks (granboltz.frames): the same numbers as
+"""Run.to_xarray, Run.to_dataframe and the quick looks (granboltz.output.frames): the same numbers as
 the Run, in d = 3 and d = 2, for a mixture and a TV06 run; the plots written as image files."""
 
 import matplotlib
@@ -91,7 +91,7 @@ def test_quick_looks_are_written_as_images(tmp_path):
     with pytest.raises(KeyError, match="no observable 'nope'"):
         run.plot("nope")
     table = pd.DataFrame({"alpha": [0.9, 0.5, 0.7], "temperature": [1.0, 2.0, 1.5], "temperature_ci": [0.1] * 3})
-    from granboltz.frames import plot_columns
+    from granboltz.output.frames import plot_columns
 
     ax = plot_columns(table, "alpha", "temperature", theory=lambda a: 1 / a)
     np.testing.assert_array_equal(ax.lines[0].get_xdata(), [0.5, 0.7, 0.9])  # sorted by x

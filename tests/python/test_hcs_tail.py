@@ -1,4 +1,4 @@
-"""granboltz.hcs_tail and its report comparison: the HCS tail theory A = 8 pi gamma C v0/zeta, the
+"""granboltz.reproduction.hcs_tail and its report comparison: the HCS tail theory A = 8 pi gamma C v0/zeta, the
 fits of b and A on histograms with a known exponential tail, and the verdicts."""
 
 import math
@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from granboltz.hcs_tail import (HCS_TAIL_COLUMNS, hcs_amplitude, hcs_tail_row_verdict, hcs_tail_summary,
+from granboltz.reproduction.hcs_tail import (HCS_TAIL_COLUMNS, hcs_amplitude, hcs_tail_row_verdict, hcs_tail_summary,
                                 maxwellian_cooling_rate, sonine_cooling_rate, thermal_speed)
 from granboltz.report.hcs_tail import compare_beyond_hcs_tail_swpm
 

@@ -1,4 +1,4 @@
-"""Tests of granboltz.local_exponent on synthetic ensembles drawn from f ~ r^chi exp(-a r^b) at fixed
+"""Tests of granboltz.analysis.local_exponent on synthetic ensembles drawn from f ~ r^chi exp(-a r^b) at fixed
 seeds: the estimators recover b (and a, chi) within their bands, exclude a wrong b, do not see a
 core offset, and the data limit is where the expected counts run out."""
 
@@ -8,7 +8,7 @@ import pytest
 import yaml
 from scipy import stats
 
-from granboltz import local_exponent as le
+from granboltz.analysis import local_exponent as le
 
 
 def sample_radii(rng, n, a, b, chi):

@@ -12,8 +12,8 @@ import h5py
 import numpy as np
 import pytest
 
-from granboltz.io import RunReadError
-from granboltz.run import read_run
+from granboltz.output.io import RunReadError
+from granboltz.output.run import read_run
 from conftest import ROOT
 
 BINARY = os.environ.get("GRANBOLTZ_BIN", str(ROOT / "build" / "granboltz"))

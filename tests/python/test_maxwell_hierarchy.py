@@ -1,4 +1,4 @@
-"""Tests of granboltz.maxwell_hierarchy: the exact moment hierarchy of GRW05 eqs. 3-4 for Maxwell
+"""Tests of granboltz.theory.maxwell_hierarchy: the exact moment hierarchy of GRW05 eqs. 3-4 for Maxwell
 pseudomolecules against an independent expansion, a direct Monte Carlo of E|v'|^2p, GRW05 eq. 16,
 the steady moments and Crit(t) of ../shared/reference/tails.md, and numerical ODE solutions."""
 
@@ -10,7 +10,7 @@ import pytest
 import sympy
 from scipy.integrate import solve_ivp
 
-from granboltz import maxwell_hierarchy as mh
+from granboltz.theory import maxwell_hierarchy as mh
 
 # tails.md: steady moments, GRW05 Ex. 7 (alpha = 1/10, beta = 30, nu = 16) and RW05 §4 (1/2, 1, 4)
 EX7 = [F(500, 11), F(17363750000, 4395567), 5.512305e5, 1.130143e8, 3.215805e10, 1.218281e13,

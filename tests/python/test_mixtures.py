@@ -1,11 +1,11 @@
-"""Mixtures and rough spheres (Beyond the papers): the Maxwellian theories of granboltz.mixtures
-(Garzó-Dufty temperature ratios, Martin-Piasecki) and granboltz.rough (Huthmann-Zippelius theta)
+"""Mixtures and rough spheres (Beyond the papers): the Maxwellian theories of granboltz.reproduction.mixtures
+(Garzó-Dufty temperature ratios, Martin-Piasecki) and granboltz.reproduction.rough (Huthmann-Zippelius theta)
 against every number of reference/beyond.md §4 and §5 and their exact limits."""
 
 import numpy as np
 import pytest
 
-from granboltz import mixtures, rough
+from granboltz.reproduction import mixtures, rough
 
 ALPHAS = (0.95, 0.9, 0.8, 0.7, 0.5)
 # beyond.md §4: T1/T2 of the HCS, sigma1 = sigma2, common alpha: (m1/m2, x1) -> one value per alpha

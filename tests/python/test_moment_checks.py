@@ -9,12 +9,12 @@ import numpy as np
 import pytest
 import yaml
 
-from granboltz import maxwell_hierarchy as mh
-from granboltz.moment_checks import (crit_verdict, hierarchy_physics, moment_rows, moment_verdict,
+from granboltz.theory import maxwell_hierarchy as mh
+from granboltz.analysis.moment_checks import (crit_verdict, hierarchy_physics, moment_rows, moment_verdict,
                                      rw05_moment_rows)
 from granboltz.report import item_blocks, render_md, verdict_kind
-from granboltz.tail_local import local_tail_summary, local_verdict, model_local_exponent
-from granboltz.tails import LOCAL_COLUMNS, TAIL_COLUMNS
+from granboltz.analysis.tail_local import local_tail_summary, local_verdict, model_local_exponent
+from granboltz.analysis.tails import LOCAL_COLUMNS, TAIL_COLUMNS
 
 EX7 = {"alpha": 0.1, "beta": 30.0, "gamma": 16.0, "kernel": {"lambda": 0, "C": 1 / (4 * np.pi)},
        "initial": {"temperature": 1.0}}

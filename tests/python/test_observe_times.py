@@ -7,8 +7,8 @@ import h5py
 import numpy as np
 import pytest
 
-from granboltz import local_exponent as le
-from granboltz.run import read_run
+from granboltz.analysis import local_exponent as le
+from granboltz.output.run import read_run
 from test_read_run_errors import BASE, run_binary
 
 

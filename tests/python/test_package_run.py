@@ -11,8 +11,8 @@ import pytest
 import yaml
 
 import granboltz
-from granboltz.io import RunReadError, read_dataset
-from granboltz.run import LazyHistograms, read_run
+from granboltz.output.io import RunReadError, read_dataset
+from granboltz.output.run import LazyHistograms, read_run
 from conftest import ROOT
 
 BINARY = os.environ.get("GRANBOLTZ_BIN", str(ROOT / "build" / "granboltz"))
@@ -208,7 +208,7 @@ def test_a_run_in_the_plane_reads_with_its_dimension_and_zero_z_entries(tmp_path
     # T = tr P / d, and the histogram's fractions over the shell areas integrate to 1
     P = run.pressure_tensor.mean
     assert np.allclose(run.temperature.mean, (P[:, 0, 0] + P[:, 1, 1]) / 2, rtol=1e-12)
-    from granboltz.tails import shell_measure
+    from granboltz.analysis.tails import shell_measure
 
     hist = run.histograms["histogram"]
     f = hist["mean"][-1, :-1] / shell_measure(hist["edges"], 2)

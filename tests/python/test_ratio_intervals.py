@@ -1,4 +1,4 @@
-"""The stored intervals of theta = T_rot/T and of the species ratio T_a/T_b (granboltz.ratios,
+"""The stored intervals of theta = T_rot/T and of the species ratio T_a/T_b (granboltz.output.ratios,
 docs/output.md) against the spread of replicas: R independent runs (own seeds) of a rough binary
 mixture, each of N ensembles, under white noise and under the Gaussian thermostat.
 
@@ -7,7 +7,7 @@ deviation sigma sqrt(1 - 1/R); with sigma_i the stored standard error (N - 1 deg
 z_i = d_i/(sigma_i sqrt(1 - 1/R)) is about Student-t, so |z_i| <= 1 holds with probability
 p = P(|t_{N-1}| <= 1) and the count of such replicas is Binomial(R, p): it must lie within its
 two-sided 0.1 % quantiles.  That rejects intervals too wide as well as too narrow: the old
-interval of granboltz.rough (correlation -1 between T_rot and T, exact under the Gaussian
+interval of granboltz.reproduction.rough (correlation -1 between T_rot and T, exact under the Gaussian
 thermostat, which holds d T + d_rot T_rot) covers nearly every replica under white noise and is
 rejected there (it is 2.2 times their spread).  The stored ci (3.2 sigma, or Student-t) must miss no more replicas than
 Binomial(R, 1 - 0.99863) allows at 0.1 %.
@@ -106,7 +106,7 @@ def test_the_old_minus_one_correlation_interval_is_too_wide_under_white_noise(re
 
 
 def test_the_study_table_takes_the_stored_ratios():
-    from granboltz.study_table import observables
+    from granboltz.study.table import observables
 
     run = granboltz.simulate(config(5, "white_noise"), threads=1, progress=False)
     row = observables(run)

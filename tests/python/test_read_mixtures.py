@@ -13,9 +13,9 @@ import numpy as np
 import pytest
 import yaml
 
-from granboltz.io import RunReadError
-from granboltz.run import read_run
-from granboltz.species import largest_remainder
+from granboltz.output.io import RunReadError
+from granboltz.output.run import read_run
+from granboltz.output.species import largest_remainder
 from test_read_run_errors import BASE, run_binary
 
 SPECIES = [{"name": "heavy", "fraction": 0.3, "mass": 4.0, "diameter": 1.0},
@@ -80,7 +80,7 @@ def write_mixture(src, dst, species=SPECIES, roughness=True):
         ratios = ([("theta", "theta_", 0.5)] if roughness else []) + (
             [(f"temperature_ratio/{species[0]['name']}_over_{species[1]['name']}", "ratio_0_1_", 1 / 1.1)]
             if species else [])
-        for group, prefix, r in ratios:  # the stored ratios (granboltz.ratios), as the simulator writes them
+        for group, prefix, r in ratios:  # the stored ratios (granboltz.output.ratios), as the simulator writes them
             f[f"{group}/mean"] = np.full(rows, r)
             f[f"{group}/ci"] = f["temperature/ci"][()] / f["temperature/mean"][()] * r
             f[f"{group}/bias"] = np.zeros(rows)

@@ -1,4 +1,4 @@
-"""granboltz.read_run (and the readers of granboltz.io) on files that are not complete outputs:
+"""granboltz.read_run (and the readers of granboltz.output.io) on files that are not complete outputs:
 every failure is RunReadError naming the file and the dataset or attribute, never a bare
 KeyError, RuntimeError or OSError of h5py.
 
@@ -24,8 +24,8 @@ import pytest
 import yaml
 
 import granboltz
-from granboltz.io import RunReadError, open_run, provenance, read_config, read_dataset, read_finite
-from granboltz.run import LazyHistograms, read_run
+from granboltz.output.io import RunReadError, open_run, provenance, read_config, read_dataset, read_finite
+from granboltz.output.run import LazyHistograms, read_run
 from conftest import ROOT
 
 BINARY = os.environ.get("GRANBOLTZ_BIN", str(ROOT / "build" / "granboltz"))

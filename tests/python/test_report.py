@@ -9,17 +9,17 @@ import matplotlib
 import numpy as np
 import pytest
 
-from granboltz.dsmc import read_dsmc, read_histogram, read_steady
-from granboltz.files import read_csv, write_csv
-from granboltz.plotting import figure_summary, pyplot, save_figure
+from granboltz.reproduction.dsmc import read_dsmc, read_histogram, read_steady
+from granboltz.output.files import read_csv, write_csv
+from granboltz.output.plotting import figure_summary, pyplot, save_figure
 from granboltz.report import (build_document, compare_convergence, num, render_html, render_md, rounding_ci,
                               signed_z, verdict, z_score)
 from granboltz.report.latex import latex_escape, latex_table
-from granboltz.steady import (EFFORT_COLUMNS, effort_rows, REPLICA_COLUMNS, replica_rows, STEADY_COLUMNS,
+from granboltz.reproduction.steady import (EFFORT_COLUMNS, effort_rows, REPLICA_COLUMNS, replica_rows, STEADY_COLUMNS,
                               steady_rows)
-from granboltz.tables import (convergence_rows, RW05_TABLE1_COLUMNS, rw05_table1_rows, RW05_TABLE2_COLUMNS,
+from granboltz.reproduction.tables import (convergence_rows, RW05_TABLE1_COLUMNS, rw05_table1_rows, RW05_TABLE2_COLUMNS,
                               TABLE_COLUMNS, timestep_rows)
-from granboltz.tails import TAIL_COLUMNS, tail_rows, WINDOW_COLUMNS
+from granboltz.analysis.tails import TAIL_COLUMNS, tail_rows, WINDOW_COLUMNS
 from conftest import (ROOT, write_fake_histogram_run, write_fake_run, write_fake_scheme_run,
                       write_fake_steady_run)
 

@@ -322,7 +322,7 @@ def test_the_docs_site_renders_in_chromium(tmp_path):
 
 
 def test_the_docs_site_documents_every_public_module():
-    """A module that could not be imported when the site was built (granboltz.inprocess without the
+    """A module that could not be imported when the site was built (granboltz.lib.inprocess without the
     extension) is left out of the API pages silently; the site must not be published that way."""
     if not DOCS_INDEX.is_file():
         if os.environ.get("GRANBOLTZ_REQUIRE_BROWSER") == "1":

@@ -6,7 +6,7 @@ import csv
 
 import pytest
 
-from granboltz import beyond
+from granboltz.reproduction import beyond
 from granboltz.report.convergence import compare_convergence, compare_rw05_table1, compare_rw05_table2
 from granboltz.report.numbers import Verdict, combined_kind, exact_verdict, marked, verdict_kind
 from granboltz.report.tails import compare_tails, tail_exponent_verdict
@@ -99,7 +99,7 @@ def test_the_quick_tail_exponent_table_gets_a_computed_verdict():
 
 def _a2(thermostat, kernel, alpha, a2, ci, a3, a3_ci):
     ref, kind = beyond.theory_a2(thermostat, 0 if kernel == "maxwell" else 1, alpha)
-    from granboltz.sonine import maxwell_a3, second_sonine
+    from granboltz.theory.sonine import maxwell_a3, second_sonine
 
     s2, s3 = second_sonine(alpha, thermostat) if kernel == "hard_spheres" else (None, None)
     return {"thermostat": thermostat, "kernel": kernel, "alpha": alpha, "a2": a2, "ci": ci, "theory": ref,
@@ -109,7 +109,7 @@ def _a2(thermostat, kernel, alpha, a2, ci, a3, a3_ci):
 
 
 def test_a2_item_is_decided_by_the_exact_maxwell_hierarchy_only():
-    from granboltz.sonine import maxwell_a3
+    from granboltz.theory.sonine import maxwell_a3
 
     exact3 = float(maxwell_a3(0.8, "white_noise"))
     good = _a2("white_noise", "maxwell", 0.8, beyond.theory_a2("white_noise", 0, 0.8)[0], 0.002, exact3, 0.003)
@@ -125,7 +125,7 @@ def test_a2_item_is_decided_by_the_exact_maxwell_hierarchy_only():
 
 
 def test_a_weighted_particle_tail_fails_only_when_it_resolves_another_exponent():
-    from granboltz.tail_swpm import swpm_kind
+    from granboltz.analysis.tail_swpm import swpm_kind
 
     base = {"theory_b": 1.0, "a_theory": 0.73, "a_swpm": 0.74, "a_swpm_ci": 0.01, "depth_swpm": 1e-40,
             "depth_constant": 1e-8, "fit_r_lo": 10.0, "fit_r_hi": 40.0}

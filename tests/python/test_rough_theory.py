@@ -1,4 +1,4 @@
-"""The Maxwellian theory of rough particles in d = 2 (granboltz.rough, derivation in its module
+"""The Maxwellian theory of rough particles in d = 2 (granboltz.reproduction.rough, derivation in its module
 text and docs/physics.md): the d = 2 exchange coefficients derived again symbolically from the
 collision map itself, the exact limits, the exact initial rates of the simulator's rough disks,
 and theta against the simulation within the stated allowance of the approximation."""
@@ -8,8 +8,8 @@ import pytest
 import sympy as sp
 
 import granboltz
-from granboltz import rough
-from granboltz.sonine import cooling_rate
+from granboltz.reproduction import rough
+from granboltz.theory.sonine import cooling_rate
 
 C_DISK = 1 / (2 * np.pi)
 

@@ -77,7 +77,7 @@ def test_the_extension_is_built():
     # No skip: without granboltz._core (make build) every test here fails, this one saying why.
     import granboltz._core  # noqa: F401
 
-    from granboltz.inprocess import simulate
+    from granboltz.lib.inprocess import simulate
 
     assert granboltz.simulate is simulate
     assert issubclass(granboltz.ConfigError, ValueError)
@@ -127,7 +127,7 @@ def test_simulate_takes_a_path_and_progress_false_prints_nothing(tmp_path, capfd
 def test_the_progress_bar_is_drawn_where_stderr_is_a_terminal():
     import io
 
-    from granboltz._progress import ProgressBar
+    from granboltz.lib.progress import ProgressBar
 
     class Terminal(io.StringIO):
         def isatty(self):

@@ -1,4 +1,4 @@
-"""granboltz.sonine against the numbers of reference/beyond.md (§1 table, §2 values and α_c), the
+"""granboltz.theory.sonine against the numbers of reference/beyond.md (§1 table, §2 values and α_c), the
 exact Maxwell hierarchy, quadrature of the Sonine-corrected cooling rate, and GRW05 eq. (17)."""
 
 import math
@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 from scipy import integrate, special
 
-from granboltz import maxwell_hierarchy as mh
-from granboltz import sonine
+from granboltz.theory import maxwell_hierarchy as mh
+from granboltz.theory import sonine
 from granboltz.theory import scheme_steady_temperature
 
 ALPHAS = [0.0, 0.2, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9]

@@ -13,7 +13,7 @@ import yaml
 
 from conftest import ROOT
 from granboltz import study as gs
-from granboltz.run import read_run
+from granboltz.output.run import read_run
 
 BINARY = os.environ.get("GRANBOLTZ_BIN", str(ROOT / "build" / "granboltz"))
 BASE = {"model": "dsmc", "seed": 5, "ensembles": 4,

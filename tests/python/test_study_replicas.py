@@ -10,7 +10,7 @@ import pytest
 import yaml
 
 from granboltz import study as gs
-from granboltz.study_table import Study, aggregate_replicas
+from granboltz.study.table import Study, aggregate_replicas
 from test_study import cli, need_binary
 
 MIXTURE = {"model": "dsmc", "seed": 11, "ensembles": 4,

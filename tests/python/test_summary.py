@@ -8,8 +8,8 @@ import subprocess
 import numpy as np
 import pytest
 
-from granboltz.run import read_run
-from granboltz.summary import format_pm
+from granboltz.output.run import read_run
+from granboltz.output.summary import format_pm
 from conftest import ROOT
 
 BINARY = os.environ.get("GRANBOLTZ_BIN", str(ROOT / "build" / "granboltz"))

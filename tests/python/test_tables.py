@@ -6,10 +6,10 @@ import math
 import numpy as np
 import pytest
 
-from granboltz.dsmc import crit_of_means, read_dsmc, read_histogram, read_steady
-from granboltz.steady import effort_rows, replica_rows, STEADY_COLUMNS, steady_rows
-from granboltz.tables import fit_order, RW05_TABLE1_COLUMNS, rw05_table1_rows, timestep_rows
-from granboltz.tails import fit_tail, TAIL_COLUMNS, tail_points, tail_rows, WINDOW_COLUMNS
+from granboltz.reproduction.dsmc import crit_of_means, read_dsmc, read_histogram, read_steady
+from granboltz.reproduction.steady import effort_rows, replica_rows, STEADY_COLUMNS, steady_rows
+from granboltz.reproduction.tables import fit_order, RW05_TABLE1_COLUMNS, rw05_table1_rows, timestep_rows
+from granboltz.analysis.tails import fit_tail, TAIL_COLUMNS, tail_points, tail_rows, WINDOW_COLUMNS
 from granboltz.theory import expected_error, scheme_steady_temperature, scheme_temperature
 from conftest import (ROOT, add_moments, tail_histogram, write_fake_histogram_run, write_fake_run,
                       write_fake_scheme_run, write_fake_steady_run)

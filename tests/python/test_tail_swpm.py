@@ -1,10 +1,10 @@
-"""granboltz.tail_swpm: f(0) from the core, the resolved depth, effective counts, the
+"""granboltz.analysis.tail_swpm: f(0) from the core, the resolved depth, effective counts, the
 asymptotic b and a from a histogram with a known tail."""
 
 import numpy as np
 import pytest
 
-from granboltz.tail_swpm import core_density, effective_counts, resolved_depth, swpm_tail_summary, swpm_verdict
+from granboltz.analysis.tail_swpm import core_density, effective_counts, resolved_depth, swpm_tail_summary, swpm_verdict
 
 LOCAL = {"pool_min_count": 400, "half_width": 4, "step": 2, "far_ci": 0.15, "tail_from": 0.01}
 

@@ -1,4 +1,4 @@
-"""Tests of granboltz.tail_theory: the leading-order tail of GRW05 Examples 7-9 and its check by
+"""Tests of granboltz.theory.tail_theory: the leading-order tail of GRW05 Examples 7-9 and its check by
 the growth of the exact lambda = 0 moments (tails.md), and the eq. (38) slope with an offset."""
 
 from fractions import Fraction as F
@@ -7,8 +7,8 @@ from math import gamma as Gamma, sqrt
 import numpy as np
 import pytest
 
-from granboltz import maxwell_hierarchy as mh
-from granboltz import tail_theory as tt
+from granboltz.theory import maxwell_hierarchy as mh
+from granboltz.theory import tail_theory as tt
 
 
 def test_examples_7_8_9_leading_order():

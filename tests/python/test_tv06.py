@@ -15,7 +15,7 @@ from granboltz.report import COMPARE, render_md
 from granboltz.theory import (colliding_density, colliding_mass, exact_temperature_ratio,
                               fluxes_by_quadrature, gaussian_fluxes, gaussian_temperature_ratio, powerlaw_pdf,
                               t_coverage)
-from granboltz.tv06_histograms import bin_average, folded_tail
+from granboltz.reproduction.tv06_histograms import bin_average, folded_tail
 
 
 LAMBDA_P = 3.2

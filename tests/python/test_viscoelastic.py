@@ -11,8 +11,8 @@ import pytest
 import yaml
 
 from conftest import ROOT
-from granboltz import beyond
-from granboltz import viscoelastic as ve
+from granboltz.reproduction import beyond
+from granboltz.reproduction import viscoelastic as ve
 from granboltz.report.beyond import compare_beyond_viscoelastic
 
 BINARY = os.environ.get("GRANBOLTZ_BIN", str(ROOT / "build" / "granboltz"))
@@ -154,7 +154,7 @@ def test_report_table_recomputes_the_verdict_from_the_csv_cells():
 
 def test_constant_law_helpers_refuse_a_viscoelastic_run():
     run = _run(0.05)
-    with pytest.raises(ValueError, match="viscoelastic runs: granboltz.viscoelastic"):
+    with pytest.raises(ValueError, match="viscoelastic runs: granboltz.reproduction.viscoelastic"):
         beyond.run_alpha(run)
     with pytest.raises(ValueError):
         beyond.haff_rows([run])

@@ -1,7 +1,7 @@
 r"""Local tail exponents from shell histograms, free of the core's offset.
 
 GRW05's eq. (38) fits ln(ln f_k0 - ln f_k), which carries the offset C' between the core and the
-tail (granboltz.tail_theory).  The estimators here only use ln f up to an additive constant:
+tail (granboltz.theory.tail_theory).  The estimators here only use ln f up to an additive constant:
 
 * local_exponent: the logarithmic-derivative exponent b(r) = 1 + d ln(-d_r ln f)/d ln r.  A second
   derivative of the log of noisy counts is not differenced directly: on a sliding window of pooled

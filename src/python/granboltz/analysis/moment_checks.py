@@ -2,7 +2,7 @@
 
 GRW05 Example 7 (lambda = 0): M_2p = <|v - V|^2p>, p = 1..P, of the final state (the simulator's
 /moment_2p, docs/output.md) against the exact time-dependent value at t_end (and the steady one)
-of granboltz.maxwell_hierarchy.  RW05 §4 (Fig. 3): <|v - V|^4>(t) and Crit(t) against the exact
+of granboltz.theory.maxwell_hierarchy.  RW05 §4 (Fig. 3): <|v - V|^4>(t) and Crit(t) against the exact
 curves.  The tail amplitude a of Ex. 7 from the growth of the exact moments (tail_theory).
 Confidence half-widths are Z = 3.2 standard errors (GRW05 §5.1); sigma = (ours - exact) / se.
 """

@@ -1,7 +1,7 @@
 """The local-exponent analysis of one GRW05 tail example (Examples 7-9).
 
-local_tail_summary joins granboltz.local_exponent (b(r) with its band, how far the data reach)
-and granboltz.tail_theory (a, b to leading order; the eq. 38 slope a given core offset implies):
+local_tail_summary joins granboltz.analysis.local_exponent (b(r) with its band, how far the data reach)
+and granboltz.theory.tail_theory (a, b to leading order; the eq. 38 slope a given core offset implies):
 
 * b_local_far +- b_local_far_ci at r_far: b(r) at the outermost window whose band half-width is
   at most far_ci; f_ratio_far = f(r_far)/f(0) and r_far_thermal = r_far / sqrt(T);

@@ -65,10 +65,10 @@ def fit_tail(x, y, window):
 
 TAIL_COLUMNS = ["example", "kernel", "lambda", "theory_b", "b", "b_stderr", "fit_window",
                 "x_variable", "histogram", "k0", "points", "intercept", "R", "t_end", "n", "N"]
-# From the local-exponent analysis (granboltz.tail_local, one summary per example).
+# From the local-exponent analysis (granboltz.analysis.tail_local, one summary per example).
 LOCAL_COLUMNS = ["b_local_far", "b_local_far_ci", "r_far", "a_fit", "a_theory", "a_fit_ci", "chi_fit",
                  "r_far_thermal", "f_ratio_far", "r_limit", "b_local_expected", "offset", "b_eq38_expected"]
-# From the weighted-particle runs (granboltz.tail_swpm, one summary per example).
+# From the weighted-particle runs (granboltz.analysis.tail_swpm, one summary per example).
 SWPM_COLUMNS = ["b_swpm", "b_swpm_ci", "a_swpm", "a_swpm_ci", "depth_swpm", "depth_constant"]
 WINDOW_COLUMNS = ["example", "lambda", "histogram", "window", "k_minus_k0", "points", "b", "b_stderr", "theory_b"]
 

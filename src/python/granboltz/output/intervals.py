@@ -2,7 +2,7 @@
 and reads them: each /steady/<observable>'s sigma with its estimator's attributes (estimator,
 tau_int, effective_samples, samples, from, block_rows), with steady_ci: independent its batch
 subgroup (the honest interval of the same run), /steady/a2 and a3, and the per-ensemble sums
-behind them. Builds on granboltz.layout (Spec, Reader); read_run gives them as Observable.sigma,
+behind them. Builds on granboltz.output.layout (Spec, Reader); read_run gives them as Observable.sigma,
 .estimator, .tau_int, .effective_samples, .block_rows and .batch (an Interval).
 """
 

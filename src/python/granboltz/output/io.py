@@ -5,7 +5,7 @@ provenance of a run.
 Every failure to read an output raises RunReadError naming the file and the dataset or attribute:
 a path that is missing or a directory, a file that is not HDF5 or is truncated, a dataset HDF5
 cannot read (for instance a Fletcher32 checksum failure of a corrupted file), a checkpoint, an
-HDF5 file of another program, a config attribute that is not valid YAML. granboltz.run.read_run
+HDF5 file of another program, a config attribute that is not valid YAML. granboltz.output.run.read_run
 adds the datasets and attributes every output of a model has, with their shapes and dtypes.
 """
 

@@ -1,7 +1,7 @@
-"""The layout of granboltz outputs that granboltz.run.read_run checks: per model and config, the
-datasets every output has with their dtypes and shapes (Spec); granboltz.reader.Reader checks a
+"""The layout of granboltz outputs that granboltz.output.run.read_run checks: per model and config, the
+datasets every output has with their dtypes and shapes (Spec); granboltz.output.reader.Reader checks a
 dataset or an attribute against it and raises RunReadError naming the file and the object, and
-granboltz.intervals adds the steady-state intervals.
+granboltz.output.intervals adds the steady-state intervals.
 
 What the simulator writes: src/granboltz/app/output.cpp (root and provenance attributes),
 record/record.cpp (accumulators, events), dsmc/run.cpp (present_dsmc, dsmc_layout), tv06/run.cpp
@@ -128,14 +128,14 @@ def dsmc_layout(reader, section, time, n):
     """Observables, events, steady, histogram and accumulators of a DSMC output (dsmc/run.cpp
     present_dsmc, dsmc_layout): {"observables": {name: [Spec]}, ...}; "intervals": {steady
     group: IntervalSpec}, "text": [(owner, key, allowed values, why)] and "steady_rows":
-    [(group, why)] of the groups with attribute rows (/steady: granboltz.intervals).
+    [(group, why)] of the groups with attribute rows (/steady: granboltz.output.intervals).
 
     What a file has depends on when its simulator was built, and the resolved config tells: one
     with dsmc.histogram.center has attribute center on the histograms. Optional, so that files of
     older simulators still read: /a2, /a3 (mean and ci, no variance), read as groups the layout
-    does not name. A mixture (dsmc.species) has out["species"] (granboltz.species.species_layout),
+    does not name. A mixture (dsmc.species) has out["species"] (granboltz.output.species.species_layout),
     rough spheres (dsmc.roughness) /temperature_rotational and its steady average, and both
-    their stored ratios (granboltz.ratios: /theta, /temperature_ratio/<a>_over_<b>)."""
+    their stored ratios (granboltz.output.ratios: /theta, /temperature_ratio/<a>_over_<b>)."""
     path, why = reader.path, reader.why
     P = config_int(path, section, "dsmc", ("moments",), 4)
     K1 = config_int(path, section, "dsmc", ("histogram", "shells")) + 1

@@ -1,10 +1,10 @@
 """The manifest of a DSMC output: /manifest lists every dataset the run presents, with its shape,
 its meaning and the observer that wrote it (src/granboltz/dsmc/observers/presenter.cpp,
-docs/output.md). granboltz.run.read_run checks an output against it: every listed dataset
+docs/output.md). granboltz.output.run.read_run checks an output against it: every listed dataset
 present with the listed shape; a damaged manifest or a missing or misshapen dataset raises
 RunReadError naming the file and the object. Outputs written before the manifest existed have no
 /manifest: read_manifest returns None and the reader relies on the layout it derives from the
-config (granboltz.layout), as it always has.
+config (granboltz.output.layout), as it always has.
 
     run = read_run("out.h5")
     run.manifest["/temperature/mean"].shape      # (M + 1,)

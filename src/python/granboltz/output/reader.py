@@ -1,5 +1,5 @@
 """Reader: reads one open granboltz output, checking each dataset and attribute against the
-layout's Spec (granboltz.layout); every failure is RunReadError naming the file and the object.
+layout's Spec (granboltz.output.layout); every failure is RunReadError naming the file and the object.
 """
 
 import h5py

@@ -8,20 +8,20 @@
     run.observables                  # {name: Observable} of every observable in the file
     run.histograms["histogram"]      # read from the file only when first asked for
     run.events["collisions"]         # per-ensemble counters
-    run.species["heavy"].temperature # a mixture's species (granboltz.species): observables, .a2, .steady,
+    run.species["heavy"].temperature # a mixture's species (granboltz.output.species): observables, .a2, .steady,
                                      # .mass, .diameter, .fraction, .particles, .events
     run.temperature_rotational       # rough spheres: T_rot (run.temperature stays translational)
-    run.theta, run.steady["theta"]   # rough spheres: theta = T_rot/T with its interval (granboltz.ratios)
+    run.theta, run.steady["theta"]   # rough spheres: theta = T_rot/T with its interval (granboltz.output.ratios)
     run.temperature_ratios["a_over_b"]  # mixtures: T_a/T_b per row; steady: run.steady["temperature_ratio/a_over_b"]
     run.config, run.provenance       # the resolved config; version, commit, threads, wall time, ...
     run.manifest["/temperature/mean"]  # DSMC: each dataset's shape, meaning, observer (None: older files)
-    run.to_xarray(), run.to_dataframe(), run.plot("temperature", theory=...)  # granboltz.frames
+    run.to_xarray(), run.to_dataframe(), run.plot("temperature", theory=...)  # granboltz.output.frames
 
 A merged file (`granboltz merge`) is identical to the unsharded run and reads the same; a single
 shard is read too, but its means cover only its ensembles: run.shard gives (index, count) and
 run.complete is False for it.
 
-read_run raises granboltz.io.RunReadError, naming the file and the dataset or attribute, for
+read_run raises granboltz.output.io.RunReadError, naming the file and the dataset or attribute, for
 anything that is not a complete output it can read: a file HDF5 cannot open or read (not HDF5,
 truncated, a checksum failure), a checkpoint, an HDF5 file of another program, and a dataset or
 attribute that every output of the file's model (and config) has but this file lacks, or has with
@@ -106,8 +106,8 @@ class Run:
     steady: dict
     exact: dict
     provenance: dict
-    species: dict = field(default_factory=dict)  # {name: granboltz.species.Species} of a mixture
-    manifest: dict = None  # {path: granboltz.manifest.ManifestEntry}; None: TV06, or written before it
+    species: dict = field(default_factory=dict)  # {name: granboltz.output.species.Species} of a mixture
+    manifest: dict = None  # {path: granboltz.output.manifest.ManifestEntry}; None: TV06, or written before it
 
     def __getattr__(self, name):
         observables = self.__dict__.get("observables", {})
@@ -130,7 +130,7 @@ class Run:
     @property
     def temperature_ratios(self):
         """{"<a>_over_<b>": Observable} of a mixture: T_a/T_b per row for every pair a < b of its
-        species (granboltz.ratios); the steady ones are run.steady["temperature_ratio/<a>_over_<b>"].
+        species (granboltz.output.ratios); the steady ones are run.steady["temperature_ratio/<a>_over_<b>"].
         {} for a one-species run and for files of simulators that did not store them.  (TV06's
         intruder has an observable temperature_ratio of its own: run.temperature_ratio.)"""
         head = "temperature_ratio/"

@@ -1,7 +1,7 @@
 """Beyond the papers: free cooling (Haff's law) and the homogeneous cooling state (HCS)
 with the Gaussian thermostat, beside the white-noise steady state.  Theory, table rows and the
 computed verdicts of the report section "Beyond the papers" (viscoelastic free cooling:
-granboltz.viscoelastic; hard disks: granboltz.disks).
+granboltz.reproduction.viscoelastic; hard disks: granboltz.reproduction.disks).
 
 Units: density 1, kernel B = C |u|^lambda, collision term gamma Q (docs/config.md, Thermostats).
 Sonine coefficient a2 = <c^4>/15 - 1 of the velocities scaled to T = 1, read from a run as the
@@ -57,7 +57,7 @@ def haff_temperature(t, T0, alpha, gamma, C, kernel_lambda, n=None, d=3, geometr
     alpha^2) t} (GRW05 eq. 16, beta = 0; exact), hard spheres Haff's law T0/(1 + t/t0)^2 with
     t0 = 2/(K sqrt(T0)), K = (16/3) sqrt(pi) gamma C (1 - alpha^2)(1 + 3 a2/16), a2 of the HCS
     in first Sonine.  With n, T0 -> T0 (1 - 1/n): the centred estimator's bias (exact for Maxwell).
-    d = 2: the rates of granboltz.sonine.cooling_rate (hard disks: impact geometry)."""
+    d = 2: the rates of granboltz.theory.sonine.cooling_rate (hard disks: impact geometry)."""
     t = np.asarray(t, dtype=float)
     T0 = T0 * (1 - 1 / n) if n else T0
     if kernel_lambda == 0:
@@ -69,11 +69,11 @@ def haff_temperature(t, T0, alpha, gamma, C, kernel_lambda, n=None, d=3, geometr
 # ----------------------------------------------------------------------------- rows
 def run_alpha(run):
     """alpha of a run with constant restitution (dsmc.alpha; the stored config has `restitution` in its
-    place for another law, e.g. viscoelastic: granboltz.viscoelastic); ValueError naming the file otherwise."""
+    place for another law, e.g. viscoelastic: granboltz.reproduction.viscoelastic); ValueError naming the file otherwise."""
     d = run.config["dsmc"]
     if "alpha" not in d:
         raise ValueError(f"{run.path}: no constant alpha (dsmc.restitution = {d.get('restitution')}); "
-                         "viscoelastic runs: granboltz.viscoelastic")
+                         "viscoelastic runs: granboltz.reproduction.viscoelastic")
     return float(d["alpha"])
 
 
@@ -140,7 +140,7 @@ def a3_columns(run, thermostat, kernel_lambda, alpha, d=3, geometry=None):
 
 
 def steady_histogram(run, steady_from):
-    """Shell data (granboltz.local_exponent format) of the histogram averaged over the observations
+    """Shell data (granboltz.analysis.local_exponent format) of the histogram averaged over the observations
     t_m > steady_from: frac the mean, se = sqrt(sum se_m^2)/M (observations taken as independent)."""
     h = run.histograms["histogram"]
     rows = run.time > steady_from + 1e-12

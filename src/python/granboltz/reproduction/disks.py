@@ -1,6 +1,6 @@
 """Beyond the papers: the Sonine coefficients a2, a3 of hard disks (d = 2, impact normals) in the
 homogeneous cooling state (Gaussian thermostat) and the white-noise steady state, against van
-Noije-Ernst's d = 2 first Sonine a2 and the second Sonine approximation (granboltz.sonine); the
+Noije-Ernst's d = 2 first Sonine a2 and the second Sonine approximation (granboltz.theory.sonine); the
 white-noise steady temperature against the energy balance.  References, table rows, the
 judgement and the verdicts of the report item (rule beyond_disks_a2, docs/workflow.md).
 
@@ -32,7 +32,7 @@ def _disks(what, d, geometry):
 
 def disk_references(thermostat, alpha, d=2, geometry=None):
     """(van Noije-Ernst a2, second-Sonine a2, second-Sonine a3) of hard disks, d = 2, impact
-    geometry [approx; the second Sonine derived, granboltz.sonine.second_sonine]."""
+    geometry [approx; the second Sonine derived, granboltz.theory.sonine.second_sonine]."""
     _disks("disk_references", d, geometry)
     a2_2, a3_2 = second_sonine(alpha, thermostat, d=2, geometry=geometry)
     return float(first_sonine_a2(alpha, thermostat, 1, d=2, geometry=geometry)), float(a2_2), float(a3_2)

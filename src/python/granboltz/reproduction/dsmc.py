@@ -2,7 +2,7 @@
 temperature series of a run (DsmcRun), the radial histogram of a tail run, the steady-state
 averages of RW05 §4.2, and Crit(t) of RW05 eq. (29) from the ensemble-mean moments.
 
-(For a general-purpose reader of any granboltz output see granboltz.run.read_run.)
+(For a general-purpose reader of any granboltz output see granboltz.output.run.read_run.)
 """
 
 from dataclasses import dataclass, field

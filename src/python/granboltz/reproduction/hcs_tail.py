@@ -46,7 +46,7 @@ def hcs_amplitude(zeta, gamma, C, T, m=1.0, d=3):
 def maxwellian_cooling_rate(alpha, gamma, C, T, m=1.0, d=3, geometry=None):
     """zeta of hard spheres with a Maxwellian f: 8 pi gamma C v0 (1 - alpha^2)/(3 sqrt(pi/2))
     (the A = 3 sqrt(pi/2)/(1 - alpha^2) of beyond.md §3); hard disks (d = 2, impact): pi^(3/2)
-    gamma C (1 - alpha^2) v0/sqrt(2) (granboltz.sonine.cooling_rate)."""
+    gamma C (1 - alpha^2) v0/sqrt(2) (granboltz.theory.sonine.cooling_rate)."""
     if check_dimension(d, (2, 3), "maxwellian_cooling_rate") == 2:
         check_geometry(d, geometry, "maxwellian_cooling_rate")
         return math.pi**1.5 * gamma * C * (1.0 - alpha**2) * thermal_speed(T, m) / math.sqrt(2.0)

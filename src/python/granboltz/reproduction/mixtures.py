@@ -159,7 +159,7 @@ def mixture_rows(runs):
     """One row per steady binary-mixture run (read_run objects with dsmc.species of two species,
     the first the heavier): mass_ratio = m1/m2, alpha, T1/T2 with its half-width (the simulator's
     /steady/temperature_ratio/<1>_over_<2>: the ratio of the steady averages, its interval by the
-    delta method with the measured covariance of T1 and T2 over the ensembles; granboltz.ratios),
+    delta method with the measured covariance of T1 and T2 over the ensembles; granboltz.output.ratios),
     Garzó-Dufty's T1/T2 for the thermostat, x1, the diameters and d of the run, difference =
     ours/GD - 1 (relative, with sign), and the correlation of the steady T1 and T2
     (mixture_correlation).  ValueError naming the file for a run without the stored ratio (a

@@ -120,7 +120,7 @@ def rough_rows(runs):
     """One row per steady rough-particle run (read_run objects with dsmc.roughness, hard spheres or
     disks: kernel.lambda 1): thermostat, alpha, beta, kappa, d, theta = T_rot/T_tr with its half-width
     (the simulator's /steady/theta: the ratio of the steady averages, its interval by the delta
-    method with the measured covariance of T_rot and T_tr over the ensembles; granboltz.ratios),
+    method with the measured covariance of T_rot and T_tr over the ensembles; granboltz.output.ratios),
     the Maxwellian theta of the run's d and difference = ours/Maxwellian - 1.  ValueError naming
     the file for a run without roughness, of another kernel, or without /steady/theta (made by a
     simulator that did not store it: rerun)."""

@@ -1,6 +1,6 @@
 """The numbers of RW05 Tables 3-6 (steady state), our check of their confidence intervals with
 repeated runs, and the effort model of RW05 §4.2, from the steady-state averages of runs
-(granboltz.dsmc.read_steady dicts).
+(granboltz.reproduction.dsmc.read_steady dicts).
 """
 
 import math

@@ -1,5 +1,5 @@
 """The numbers of GRW05 Tables 1-2 and RW05 Tables 1-2 (convergence in n and in the time step)
-from DSMC runs (granboltz.dsmc.DsmcRun), and the fitted order of convergence.
+from DSMC runs (granboltz.reproduction.dsmc.DsmcRun), and the fitted order of convergence.
 
 Each builder returns a list of dict rows; the *_COLUMNS lists give the CSV column order (the
 paper's columns first, then ours).

@@ -1,10 +1,10 @@
 """Free cooling of viscoelastic hard spheres, d = 3 (Beyond the papers; the theory functions take d
-and raise ValueError for another, granboltz.dimension): the restitution law of the
+and raise ValueError for another, granboltz.theory.dimension): the restitution law of the
 simulator's `dsmc.restitution: {law: viscoelastic, delta: δ}`, the cooling law T(t) ~ t^(-5/3)
 (Brilliantov & Pöschel), and the table rows and verdict of the report item.
 
 Law (Schwager & Pöschel 1998; docs/config.md, Restitution laws): ε = 1 − C1 x + C2 x², x = δ g_n^(1/5),
-held at 7/12 for x ≥ X_HOLD = 5/(6 C1).  Units as granboltz.beyond: density 1, kernel B = C|u|, collision
+held at 7/12 for x ≥ X_HOLD = 5/(6 C1).  Units as granboltz.reproduction.beyond: density 1, kernel B = C|u|, collision
 term γQ.  The Maxwellian moment equation is
 
     dT/dt = −ζ(T) T,  ζ(T) = (16/3)√π γC (n − 1)/n √T Φ(T),  Φ(T) = ⟨|u| g_n² (1 − ε²)⟩/⟨|u| g_n²⟩,
@@ -43,7 +43,7 @@ def _moment(k):
 A1 = LOSS[1] * _moment(1)  # Φ = A1 δ T^(1/10) − A2 δ² T^(1/5) + …: A1 = 2.7731
 A2 = -LOSS[2] * _moment(2)
 B1 = A2 / A1
-# First-Sonine factor of ⟨|u|^p⟩, p(p − 2)/16 (granboltz.sonine.cooling_rate), at the loss term's p = 16/5
+# First-Sonine factor of ⟨|u|^p⟩, p(p − 2)/16 (granboltz.theory.sonine.cooling_rate), at the loss term's p = 16/5
 P_LOSS = 3.2  # the loss term's moment order p = 16/5 (not lambda_p)
 KAPPA = P_LOSS * 1.2 / 16
 # δ = 0 conserves energy to rounding: even 10^6 collisions per ensemble, each rounding the same way, drift

@@ -34,7 +34,7 @@ most 1 MiB; at most 100 000 YAML nodes, also with aliases expanded; at most 64 l
 given twice; finite numbers), the number of points (at most MAX_POINTS unless max_points /
 --max-points says more) and every point's config, by the simulator's own parser.
 
-    from granboltz.study import Study, run     # Study: granboltz.study_table (also granboltz.Study)
+    from granboltz.study import Study, run     # Study: granboltz.study.table (also granboltz.Study)
     run("scan.yaml", cores=2)                  # the same as the command line `run`
     Study("studies/scan").table()              # pandas DataFrame, one row per point
 
@@ -146,7 +146,7 @@ def run(study_file, cores=None, profile=None, into=None, quiet=False, extra=(), 
 
 
 def __getattr__(name):
-    # granboltz.study.Study: the reader lives in study_table (pandas only when a table is made)
+    # granboltz.study.Study: the reader lives in study.table (pandas only when a table is made)
     if name == "Study":
         from .table import Study
 
@@ -241,12 +241,3 @@ def _status(study):
     print(f"{study.name}: {len(study.points) - len(problems)} of {len(study.points)} points have a sound run"
           + (f" ({detail})" if detail else ""))
     return 3 if problems else 0
-
-
-if __name__ == "__main__":
-    # Run as `python -m granboltz.study`, this file is the module __main__, whose StudyError is
-    # another class than granboltz.study.StudyError (which study_table raises): run the
-    # package's module instead, so that every error is caught as the one class.
-    from granboltz.study import main as _main
-
-    sys.exit(_main())

@@ -173,7 +173,7 @@ def find_binary():
     own = simulator()
     if own:
         return own
-    tree = pathlib.Path(__file__).resolve().parents[3] / "build" / "granboltz"
+    tree = pathlib.Path(__file__).resolve().parents[4] / "build" / "granboltz"
     found = shutil.which("granboltz")
     if found:
         return str(pathlib.Path(found).absolute())

@@ -141,7 +141,7 @@ class Study:
         series: temperature, temperature_ci, a2, a2_ci, a3, a3_ci (where the run has them), per
         species T_<name>, T_<name>_ci (and a2_<name>, a2_<name>_ci with dsmc.moments >= 2), per pair of species a < b T_<a>/T_<b> with its _ci, and for rough
         particles theta = T_rot/T with theta_ci: the ratios the simulator stores, with intervals from
-        the measured covariance of the two temperatures (granboltz.ratios; files of simulators that
+        the measured covariance of the two temperatures (granboltz.output.ratios; files of simulators that
         did not store them: theta from the means, theta_ci NaN).
         Columns steady (bool) and time (the last observation time, NaN for steady rows).
 
@@ -215,11 +215,11 @@ def observables(r):
         if "a2" in sp_source:  # a ratio of the species' moments, its interval by the delta method
             row[f"a2_{name}"], row[f"a2_{name}_ci"] = _value(sp_source["a2"], steady)
     names = list(r.species or {})
-    for i, a in enumerate(names):  # T_a/T_b of a mixture, stored with its interval (granboltz.ratios)
+    for i, a in enumerate(names):  # T_a/T_b of a mixture, stored with its interval (granboltz.output.ratios)
         for b in names[i + 1:]:
             if f"temperature_ratio/{a}_over_{b}" in source:
                 row[f"T_{a}/T_{b}"], row[f"T_{a}/T_{b}_ci"] = _value(source[f"temperature_ratio/{a}_over_{b}"], steady)
-    if "theta" in source:  # rough particles: T_rot/T with the simulator's interval (granboltz.ratios)
+    if "theta" in source:  # rough particles: T_rot/T with the simulator's interval (granboltz.output.ratios)
         row["theta"], row["theta_ci"] = _value(source["theta"], steady)
     elif "temperature_rotational" in source and "temperature" in source:
         # a file of a simulator that did not store theta: the ratio of the means, no honest interval
