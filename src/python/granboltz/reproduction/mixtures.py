@@ -22,7 +22,7 @@ The ratios are returned as gamma_i = T_i/T with T = sum_i x_i T_i (the mixture's
 the simulator's /temperature).  The conditions are homogeneous in the T_i (zeta_i ~ T^(1/2)), so
 T_1 is fixed and scipy.optimize.root solves for log(T_i/T_1), i >= 2.  Every number of the HCS
 table and of the white-noise list of beyond.md §4 is reproduced to four decimals
-(tests/python/test_mixtures.py), and the tracer limit gives Martin-Piasecki.  The simulator's
+(tests/python/reproduction/test_mixtures.py), and the tracer limit gives Martin-Piasecki.  The simulator's
 HCS (rule beyond_mixture, quick profile, m1/m2 = 2 and 4) puts T1/T2 0.2-1.0 % below these
 ratios at every alpha from 0.95 to 0.5.
 """

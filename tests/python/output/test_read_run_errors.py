@@ -26,10 +26,8 @@ import yaml
 import granboltz
 from granboltz.output.io import RunReadError, open_run, provenance, read_config, read_dataset, read_finite
 from granboltz.output.run import LazyHistograms, read_run
-from conftest import ROOT
+from conftest import BASE, BINARY, run_binary
 
-BINARY = os.environ.get("GRANBOLTZ_BIN", str(ROOT / "build" / "granboltz"))
-BASE = ROOT / "tests" / "bad_inputs" / "base"
 # The base configs with every optional part a model can write: histograms, steady state, exact values.
 DSMC = ["--set", "dsmc.histogram.shells=8", "--set", "dsmc.histogram.radius=5", "--set", "dsmc.steady_from=0.2"]
 SETTINGS = {
@@ -43,12 +41,6 @@ SETTINGS = {
                "--set", "needle.omega_histogram.range=3"],
 }
 FLIPS, TRUNCATIONS, EDITS = 22, 6, 22  # per output: 200 cases in all
-
-
-def run_binary(*args, **kwargs):
-    if not os.access(BINARY, os.X_OK):
-        pytest.fail(f"{BINARY} is missing: build the simulator first (make build)")
-    return subprocess.run([BINARY, *map(str, args)], check=True, **kwargs)
 
 
 @pytest.fixture(scope="session")

@@ -65,7 +65,7 @@ def test_a_mixture_has_a_species_dimension():
 
 
 def test_a_tv06_run_gives_its_time_averages(tmp_path):
-    from test_read_run_errors import BASE as CONFIGS
+    from conftest import BASE as CONFIGS
 
     run = granboltz.simulate(CONFIGS / "intruder.yaml", progress=False)
     df, ds = run.to_dataframe(), run.to_xarray()

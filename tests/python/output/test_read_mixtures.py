@@ -16,7 +16,7 @@ import yaml
 from granboltz.output.io import RunReadError
 from granboltz.output.run import read_run
 from granboltz.output.species import largest_remainder
-from test_read_run_errors import BASE, run_binary
+from conftest import BASE, run_binary
 
 SPECIES = [{"name": "heavy", "fraction": 0.3, "mass": 4.0, "diameter": 1.0},
            {"name": "light", "fraction": 0.7, "mass": 1.0, "diameter": 1.5}]

@@ -9,7 +9,7 @@ import pytest
 
 from granboltz.analysis import local_exponent as le
 from granboltz.output.run import read_run
-from test_read_run_errors import BASE, run_binary
+from conftest import BASE, run_binary
 
 
 def run(tmp_path, observe, *sets):
