@@ -10,7 +10,8 @@ import types
 import pytest
 
 THEORY_MODULES = ["sonine", "theory.closed_forms", "maxwell_hierarchy", "viscoelastic", "tail_theory", "hcs_tail", "beyond",
-                  "disks", "mixtures", "rough", "moment_checks", "shear", "transport"]
+                  "disks", "mixtures", "rough", "moment_checks", "shear", "transport", "theory.hcs", "theory.viscoelastic",
+                  "theory.hcs_tail", "theory.disks", "theory.mixtures", "theory.rough"]
 
 # d-free, and why: data (rows, verdicts, fits of a run's numbers), utilities, or another model's formula
 D_FREE = {
@@ -20,13 +21,13 @@ D_FREE = {
                "colliding_mass", "gaussian_temperature_ratio", "exact_temperature_ratio",
                "t_coverage"},  # statistics
     "maxwell_hierarchy": {"rational", "evaluate"},  # number utilities
-    "viscoelastic": {"restitution",  # the contact law eps(g_n): one dimension
-                     "run_delta", "log_spaced", "viscoelastic_rows", "late_slope", "slope_verdict", "elastic_verdict",
+    "theory.viscoelastic": {"restitution"},  # the contact law eps(g_n): one dimension
+    "viscoelastic": {"run_delta", "log_spaced", "viscoelastic_rows", "late_slope", "slope_verdict", "elastic_verdict",
                      "viscoelastic_verdict", "short_verdict"},
     "tail_theory": {"example_tail",  # GRW05's examples, d = 3
                     "local_eq38_slope", "eq38_slope", "offset_for_slope"},  # what a fit sees of a given profile
-    "hcs_tail": {"thermal_speed",  # v0 = sqrt(2T/m), a definition
-                 "exponential_fit", "hcs_tail_row_verdict"},
+    "theory.hcs_tail": {"thermal_speed"},  # v0 = sqrt(2T/m), a definition
+    "hcs_tail": {"exponential_fit", "hcs_tail_row_verdict"},
     "beyond": {"run_alpha", "haff_rows", "a2_rows", "steady_histogram", "haff_verdict", "a2_agrees", "a2_verdict",
                "a2_item_verdict", "tail_verdict"},  # rows take d from each run's config
     "disks": {"disk_a2_rows", "disk_judge", "disk_place", "disk_a2_verdict", "disk_item_verdict"},
@@ -57,29 +58,29 @@ CASES = {
     "maxwell_hierarchy.steady_a2_formula": (("1/2",), THREE), "maxwell_hierarchy.crit": ((3.0, 15.5), THREE),
     "maxwell_hierarchy.crit_exact": (([0.5], "1/2", 1, 1), THREE), "maxwell_hierarchy.crit_steady": (("1/2", 1, 1), THREE),
     "maxwell_hierarchy.hcs_scaled_moments": ((2, "1/2"), THREE), "maxwell_hierarchy.hcs_a2": (("1/2",), THREE),
-    "viscoelastic.loss_fraction": ((1.0, 0.1), THREE), "viscoelastic.cooling_rate_visco": ((1.0, 0.1, 1.0, 0.1), THREE),
-    "viscoelastic.tau0": ((0.1, 1.0, 1.0, 0.1), THREE),
-    "viscoelastic.asymptotic_temperature": (([1.0], 0.1, 1.0, 1.0, 0.1), THREE),
-    "viscoelastic.free_cooling_temperature": (([1.0], 0.1, 1.0, 1.0, 0.1), THREE),
-    "viscoelastic.local_slope": (([1.0], [0.5], 0.1, 1.0, 0.1), THREE),
-    "viscoelastic.late_slope_expansion": (([10.0], [0.5], 0.1, 1.0), THREE),
+    "theory.viscoelastic.loss_fraction": ((1.0, 0.1), THREE), "theory.viscoelastic.cooling_rate_visco": ((1.0, 0.1, 1.0, 0.1), THREE),
+    "theory.viscoelastic.tau0": ((0.1, 1.0, 1.0, 0.1), THREE),
+    "theory.viscoelastic.asymptotic_temperature": (([1.0], 0.1, 1.0, 1.0, 0.1), THREE),
+    "theory.viscoelastic.free_cooling_temperature": (([1.0], 0.1, 1.0, 1.0, 0.1), THREE),
+    "theory.viscoelastic.local_slope": (([1.0], [0.5], 0.1, 1.0, 0.1), THREE),
+    "theory.viscoelastic.late_slope_expansion": (([10.0], [0.5], 0.1, 1.0), THREE),
     "tail_theory.tail_exponent": ((1.0,), TWO), "tail_theory.fast_particle_rate": ((16.0, 0.25), TWO),
     "tail_theory.tail_amplitude": ((16.0, 30.0, 1.0), TWO), "tail_theory.amplitude_from_moments": (([1, 3, 15, 105],), TWO),
     "tail_theory.amplitude_and_chi_from_moments": (([1, 3, 15, 105, 945],), TWO),
     "tail_theory.importance_split": ((1.0, 30.0, 16.0, 0.08, 16.0, 4.0), TWO),
-    "hcs_tail.hcs_amplitude": ((1.0, 1.0, 0.08, 1.0), TWO), "hcs_tail.maxwellian_cooling_rate": ((0.8, 1.0, 0.08, 1.0), TWO),
-    "hcs_tail.sonine_cooling_rate": ((0.8, 1.0, 0.08, 1.0), TWO),
+    "theory.hcs_tail.hcs_amplitude": ((1.0, 1.0, 0.08, 1.0), TWO), "theory.hcs_tail.maxwellian_cooling_rate": ((0.8, 1.0, 0.08, 1.0), TWO),
+    "theory.hcs_tail.sonine_cooling_rate": ((0.8, 1.0, 0.08, 1.0), TWO),
     "hcs_tail.hcs_tail_summary": (None, TWO),  # data with theory: d passed to hcs_amplitude (checked through it)
-    "beyond.vne_hcs_a2": ((0.8,), TWO), "beyond.vne_heated_a2": ((0.8,), TWO),
-    "beyond.theory_a2": (("gaussian", 1, 0.8), TWO), "beyond.haff_temperature": (([1.0], 1.0, 0.8, 1.0, 0.08, 1), TWO),
+    "theory.hcs.vne_hcs_a2": ((0.8,), TWO), "theory.hcs.vne_heated_a2": ((0.8,), TWO),
+    "theory.hcs.theory_a2": (("gaussian", 1, 0.8), TWO), "theory.hcs.haff_temperature": (([1.0], 1.0, 0.8, 1.0, 0.08, 1), TWO),
     "beyond.a3_columns": ((A3_RUN, "gaussian", 1, 0.8), TWO),
-    "disks.disk_references": (("gaussian", 0.8), (2,)), "disks.disk_steady_temperature": ((0.8, 1.0, 1.0, 0.16), (2,)),
-    "mixtures.partial_cooling_rates": (([1.0, 1.0], [2.0, 1.0], [0.5, 0.5], 0.8), TWO),
-    "mixtures.hcs_temperature_ratios": (([2.0, 1.0], [0.5, 0.5], 0.8), TWO),
-    "mixtures.white_noise_temperature_ratios": (([2.0, 1.0], [0.5, 0.5], 0.8), TWO),
-    "mixtures.temperature_ratio": (("gaussian", 2.0, 0.8), TWO), "mixtures.martin_piasecki": ((0.5, 1.0), (1, 2, 3)),
-    "rough.coefficients": ((0.8, 0.5), TWO), "rough.temperature_rates": ((1.0, 0.5, 0.8, 0.5), TWO),
-    "rough.hcs_theta": ((0.8, 0.5), TWO), "rough.white_noise_theta": ((0.5,), TWO), "rough.theta": (("gaussian", 0.8, 0.5), TWO),
+    "theory.disks.disk_references": (("gaussian", 0.8), (2,)), "theory.disks.disk_steady_temperature": ((0.8, 1.0, 1.0, 0.16), (2,)),
+    "theory.mixtures.partial_cooling_rates": (([1.0, 1.0], [2.0, 1.0], [0.5, 0.5], 0.8), TWO),
+    "theory.mixtures.hcs_temperature_ratios": (([2.0, 1.0], [0.5, 0.5], 0.8), TWO),
+    "theory.mixtures.white_noise_temperature_ratios": (([2.0, 1.0], [0.5, 0.5], 0.8), TWO),
+    "theory.mixtures.temperature_ratio": (("gaussian", 2.0, 0.8), TWO), "theory.mixtures.martin_piasecki": ((0.5, 1.0), (1, 2, 3)),
+    "theory.rough.coefficients": ((0.8, 0.5), TWO), "theory.rough.temperature_rates": ((1.0, 0.5, 0.8, 0.5), TWO),
+    "theory.rough.hcs_theta": ((0.8, 0.5), TWO), "theory.rough.white_noise_theta": ((0.5,), TWO), "theory.rough.theta": (("gaussian", 0.8, 0.5), TWO),
     "moment_checks.moment_rows": (([3.0], [0.1], "1/2", 1, 1, 1, 0.5), THREE),
     "moment_checks.amplitude_rows": (("1/2", 1, 1, 6), THREE),
     "shear.maxwell_second_moment_rate": ((1.0, 0.5, 1.0, 0.3), TWO),
