@@ -58,7 +58,7 @@ test-python:
 
 ## make docs: the documentation site (Sphinx, furo, myst-parser; Debian packages) into
 ## build/docs/html/ (open build/docs/html/index.html); warnings are errors. It builds the
-## simulator first: the API pages of granboltz.inprocess need the extension granboltz._core.
+## simulator first: the API pages of granboltz.lib.inprocess need the extension granboltz._core.
 DOCS_OUT ?= build/docs
 docs: deps build
 	/usr/bin/python3 -m sphinx -b html -W --keep-going -q -d $(DOCS_OUT)/doctrees docs $(DOCS_OUT)/html

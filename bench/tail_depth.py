@@ -6,7 +6,7 @@ For GRW05 Examples 7-9 in their steady state (run to 2 t_end, histogram averaged
 over 20 times in (t_end, 2 t_end], as the workflow's SWPM runs), runs the simulator once with
 constant weights and once per SWPM setting, and reports the CPU seconds (user + system of the
 simulator) and the depth reached: the smallest f(r)/f(0) of a shell whose relative confidence
-half-width is below 30 % (granboltz.tail_swpm.resolved_depth), with decades of depth per CPU minute.
+half-width is below 30 % (granboltz.analysis.tail_swpm.resolved_depth), with decades of depth per CPU minute.
 The SWPM runs split along the diffusion path (dsmc.weights.split) with the theory tail as
 importance function and the workflow's r_s (config/paper.yaml grw05.tails.swpm).
 
@@ -27,9 +27,9 @@ import yaml
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "src" / "python"))
 
-from granboltz.local_exponent import shells_from_h5  # noqa: E402
-from granboltz.tail_swpm import resolved_depth  # noqa: E402
-from granboltz.tail_theory import importance_split  # noqa: E402
+from granboltz.analysis.local_exponent import shells_from_h5  # noqa: E402
+from granboltz.analysis.tail_swpm import resolved_depth  # noqa: E402
+from granboltz.theory.tail_theory import importance_split  # noqa: E402
 
 # GRW05 §5.3: lambda, t_end (the paper's), histogram radius R (128 shells) and split radius r_s of
 # config/paper.yaml grw05.tails.swpm

@@ -116,12 +116,13 @@ def package_page(modules):
         lines += [f".. {directive}:: granboltz.{name}", ""]
         if role == "class":
             lines += ["   :members:", ""]
+    # the sub-packages and the top-level modules; each sub-package's page lists its own modules
     lines += [".. toctree::", "   :maxdepth: 1", ""]
-    lines += [f"   {m}" for m in modules if m != "granboltz"]
+    lines += [f"   {m}" for m in modules if m.count(".") == 1]
     return "\n".join(lines) + "\n"
 
 
-def module_page(name):
+def module_page(name, modules):
     module = importlib.import_module(name)
     title = f"``{name}``"
     lines = [title, "=" * len(title), "", f".. automodule:: {name}", "   :no-members:", ""]
@@ -134,10 +135,10 @@ def module_page(name):
             lines += [f".. auto{'class' if inspect.isclass(obj) else 'function'}:: {name}.{m}", ""]
             if inspect.isclass(obj):
                 lines += ["   :members:", ""]
-    if hasattr(module, "__path__"):  # a subpackage: its modules
-        subs = [i.name for i in pkgutil.iter_modules(module.__path__, name + ".") if not i.name.rsplit(".", 1)[1].startswith("_")]
+    if hasattr(module, "__path__"):  # a sub-package: the API reference of its modules below it
+        subs = [m for m in modules if m.startswith(name + ".") and m.count(".") == name.count(".") + 1]
         if subs:
-            lines += ["Modules: " + ", ".join(f":mod:`{s}`" for s in subs), ""]
+            lines += [".. toctree::", "   :maxdepth: 1", ""] + [f"   {s}" for s in subs] + [""]
     return "\n".join(lines) + "\n"
 
 
@@ -176,7 +177,7 @@ def generate(app, config):
     write_if_changed(api / "granboltz.rst", package_page(modules))
     for m in modules:
         if m != "granboltz":
-            write_if_changed(api / f"{m}.rst", module_page(m))
+            write_if_changed(api / f"{m}.rst", module_page(m, modules))
     for stale in api.glob("*.rst"):
         if stale.stem not in modules:
             stale.unlink()

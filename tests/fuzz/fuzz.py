@@ -458,8 +458,8 @@ def worker_main():
     provenance, which names times and hosts, left out)."""
     import h5py
     import numpy as np
-    from granboltz.io import RunReadError
-    from granboltz.run import read_run
+    from granboltz.output.io import RunReadError
+    from granboltz.output.run import read_run
 
     def feed(h, value):
         if isinstance(value, dict):

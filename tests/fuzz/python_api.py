@@ -1,5 +1,5 @@
 """The `python` family of the mutation fuzzer (tests/fuzz/fuzz.py --families python): the Python
-API of granboltz.inprocess (simulate, Simulation, advance, observe, save, restore) given mutated
+API of granboltz.lib.inprocess (simulate, Simulation, advance, observe, save, restore) given mutated
 configs (dicts with NumPy values, deep nesting, cycles, wrong types, unknown keys), mutated
 arguments (threads, ensemble, advance's t, output and save paths: the config itself, hard and
 symbolic links, directories, FIFOs, bytes, paths that are not UTF-8, NUL), damaged state files
@@ -568,8 +568,10 @@ def too_long(argument, scratch):
     when the config is refused (the call then says why) or the estimate cannot be read."""
     import re
 
-    from granboltz import _arguments, _core
+    from granboltz import _core
 
+
+    from granboltz.lib import arguments as _arguments
     try:
         text, origin, _ = _arguments.config_text(argument)
         normalized = _core.normalized_config(text, origin)
@@ -681,7 +683,7 @@ def execute(case, configs, np, send):
     """Runs one case in the current (fresh) directory; sends the inputs' snapshot, then one
     answer per call; returns the names of the files that calls which succeeded may write."""
     import granboltz
-    from granboltz import _arguments
+    from granboltz.lib import arguments as _arguments
 
     d = os.getcwd()
     outputs = []

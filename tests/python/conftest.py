@@ -1,8 +1,10 @@
 """Shared fixtures of the workflow tests: paths, a runner for workflow scripts with a stand-in
 `snakemake` object, and synthetic granboltz output files with known answers."""
 
+import os
 import pathlib
 import runpy
+import subprocess
 import sys
 import types
 
@@ -13,6 +15,9 @@ import yaml
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 SCRIPTS = ROOT / "workflow" / "scripts"
+# the simulator and the base configs of tests/bad_inputs/, shared by the tests that run it
+BINARY = os.environ.get("GRANBOLTZ_BIN", str(ROOT / "build" / "granboltz"))
+BASE = ROOT / "tests" / "bad_inputs" / "base"
 # the granboltz package from this source tree, ahead of any installed copy
 sys.path.insert(0, str(ROOT / "src" / "python"))
 
@@ -209,3 +214,10 @@ def add_moments(path, crit_value=0.1):
         f["crit/mean"] = np.full(M, crit_value + 0.05)
         f["crit/ci"] = np.full(M, 0.01)
     return path
+
+
+def run_binary(*args, **kwargs):
+    """The simulator with these arguments (a test fails, not skips, when it is not built)."""
+    if not os.access(BINARY, os.X_OK):
+        pytest.fail(f"{BINARY} is missing: build the simulator first (make build)")
+    return subprocess.run([BINARY, *map(str, args)], check=True, **kwargs)

@@ -3,7 +3,7 @@ and the values a user looks at first, read back from the output; nothing with -q
 
 import re
 
-from test_read_run_errors import BASE, run_binary
+from conftest import BASE, run_binary
 
 
 def _run(tmp_path, config, *extra):

@@ -61,7 +61,7 @@ def test_the_worked_example_runs_as_written(tmp_path):
 
 
 # the modules whose every public function and class docs/python.md names (the others: their table row)
-DOCUMENTED_IN_FULL = ["granboltz.theory.sonine", "granboltz.finite_size", "granboltz.summary", "granboltz.theory.closed_forms"]
+DOCUMENTED_IN_FULL = ["granboltz.theory.sonine", "granboltz.analysis.finite_size", "granboltz.output.summary", "granboltz.theory.closed_forms"]
 
 
 def public_names(module_name):

@@ -6,9 +6,9 @@ import os
 import numpy as np
 import pytest
 
-from granboltz.dsmc import read_dsmc
-from granboltz.files import atomic_path, write_csv
-from granboltz.tables import convergence_rows
+from granboltz.reproduction.dsmc import read_dsmc
+from granboltz.output.files import atomic_path, write_csv
+from granboltz.reproduction.tables import convergence_rows
 from granboltz.theory import analytic_temperature
 from conftest import eq34
 

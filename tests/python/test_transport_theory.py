@@ -7,9 +7,11 @@ import math
 import numpy as np
 import pytest
 
-from granboltz import maxwell_hierarchy, transport
+from granboltz import transport
 
 
+
+from granboltz.theory import maxwell_hierarchy
 def _collide(v, w, alpha, rng):
     """GRW05 eq. 4 with e uniform on S^{d-1}: the simulator's `geometry: uniform` map."""
     d = v.shape[1]

@@ -17,14 +17,14 @@ BUILD = ROOT / "build"
 
 PROBE = r"""
 import json, sys, granboltz
-from granboltz.study_spec import find_binary
+from granboltz.study.spec import find_binary
 run = granboltz.simulate({"model": "dsmc", "seed": 1, "ensembles": 2, "dsmc": {"particles": 64, "alpha": 0.8,
     "beta": 1, "kernel": {"lambda": 0, "C": 0.0795774715459477}, "t_end": 1, "observe_every": 0.5}},
     progress=False)
-import granboltz._core, granboltz.frames, granboltz.transport
+import granboltz._core, granboltz.output.frames, granboltz.transport
 print(json.dumps({"file": granboltz.__file__, "T": list(run.temperature.mean), "binary": find_binary(),
                   "checkout": getattr(granboltz, "CHECKOUT", None), "path": sys.path,
-                  "modules": [m.__file__ for m in (granboltz._core, granboltz.frames, granboltz.transport)]}))
+                  "modules": [m.__file__ for m in (granboltz._core, granboltz.output.frames, granboltz.transport)]}))
 """
 
 

@@ -210,10 +210,10 @@ def beyond_swpm_run_config(wildcards):
     """Run config of results/beyond_swpm/gaussian/hard_spheres/alpha={alpha}/N={N}/n={n}: hard
     spheres under the Gaussian thermostat with SWPM and importance splitting. The importance
     function is the theory tail exp(-A c) in r = |v - V|: rate A/v0 with A from the first-Sonine
-    zeta (granboltz.hcs_tail; only the variance depends on it), from split_radius out to R; the
+    zeta (granboltz.reproduction.hcs_tail; only the variance depends on it), from split_radius out to R; the
     sweeps come every 1/(rate zeta R), the time the drift (zeta/2) r takes to move a particle at R
     by one e-fold of the importance function."""
-    from granboltz.hcs_tail import hcs_amplitude, sonine_cooling_rate, thermal_speed
+    from granboltz.reproduction.hcs_tail import hcs_amplitude, sonine_cooling_rate, thermal_speed
 
     h = HCS_SWPM
     alpha = float(wildcards.alpha)

@@ -24,10 +24,10 @@ def grw05_swpm_runs(ex):
 
 
 def grw05_swpm_split(ex, power=None):
-    """dsmc.weights.split of experiment `ex` (granboltz.tail_theory.importance_split): the theory
+    """dsmc.weights.split of experiment `ex` (granboltz.theory.tail_theory.importance_split): the theory
     tail as importance function from split_radius out to the histogram radius R, or the importance
     check's exp(-a' r^power)."""
-    from granboltz.tail_theory import importance_split
+    from granboltz.theory.tail_theory import importance_split
 
     e = GRW05[ex]
     return importance_split(float(e["kernel"]["lambda"]), float(e["beta"]), float(e["gamma"]),

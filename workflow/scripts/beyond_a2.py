@@ -1,7 +1,7 @@
 """Beyond the papers: the Sonine coefficient a2(alpha) of the steady states of both
 thermostats, side by side.  Gaussian thermostat: the homogeneous cooling state in scaled
 velocities; hard spheres against van Noije-Ernst's first-Sonine formula, Maxwell molecules
-against the exact HCS value of the moment hierarchy (granboltz.maxwell_hierarchy.hcs_a2).
+against the exact HCS value of the moment hierarchy (granboltz.theory.maxwell_hierarchy.hcs_a2).
 White noise: hard spheres against van Noije-Ernst's heated formula, Maxwell molecules against
 the exact steady value.  a2 = <fourth_moment>/(15 <T>^2) over the steady observations.  Beside
 it: the second Sonine a2 and a3 of hard spheres, the simulator's steady a3, and the exact a3 of
@@ -15,10 +15,10 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 import numpy as np  # noqa: E402
 
 from granboltz import read_run  # noqa: E402
-from granboltz.beyond import a2_item_verdict, a2_rows, theory_a2  # noqa: E402
-from granboltz.sonine import hcs_moment_threshold, maxwell_a3, second_sonine  # noqa: E402
-from granboltz.files import write_csv, write_json  # noqa: E402
-from granboltz.plotting import figure_summary, label_sonine_panels, pyplot, save_figure  # noqa: E402
+from granboltz.reproduction.beyond import a2_item_verdict, a2_rows, theory_a2  # noqa: E402
+from granboltz.theory.sonine import hcs_moment_threshold, maxwell_a3, second_sonine  # noqa: E402
+from granboltz.output.files import write_csv, write_json  # noqa: E402
+from granboltz.output.plotting import figure_summary, label_sonine_panels, pyplot, save_figure  # noqa: E402
 
 p = snakemake.params
 rows = a2_rows([read_run(path) for path in snakemake.input.runs], p.rel_tol, p.abs_floor)

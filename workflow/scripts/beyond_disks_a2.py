@@ -1,8 +1,8 @@
 """Beyond the papers: the Sonine coefficients a2, a3 of hard disks (d = 2, impact normals) in the
 homogeneous cooling state (Gaussian thermostat) and the white-noise steady state, against van
 Noije-Ernst's d = 2 first Sonine a2 and the second Sonine approximation (a2 and a3; derived,
-granboltz.sonine.second_sonine); white-noise T against the energy balance.  Rows, judgement
-and verdict: granboltz.disks (disk_a2_rows, disk_a2_verdict).  Writes the table, the figure
+granboltz.theory.sonine.second_sonine); white-noise T against the energy balance.  Rows, judgement
+and verdict: granboltz.reproduction.disks (disk_a2_rows, disk_a2_verdict).  Writes the table, the figure
 (a2 above and a3 below, one column per thermostat) and the summary with the computed verdict.
 """
 
@@ -13,9 +13,9 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 import numpy as np  # noqa: E402
 
 from granboltz import read_run  # noqa: E402
-from granboltz.disks import disk_a2_rows, disk_a2_verdict, disk_item_verdict, disk_references  # noqa: E402
-from granboltz.files import write_csv, write_json  # noqa: E402
-from granboltz.plotting import figure_summary, label_sonine_panels, pyplot, save_figure  # noqa: E402
+from granboltz.reproduction.disks import disk_a2_rows, disk_a2_verdict, disk_item_verdict, disk_references  # noqa: E402
+from granboltz.output.files import write_csv, write_json  # noqa: E402
+from granboltz.output.plotting import figure_summary, label_sonine_panels, pyplot, save_figure  # noqa: E402
 
 rows = disk_a2_rows([read_run(path) for path in snakemake.input.runs], snakemake.params.max_gap)
 columns = ["thermostat", "alpha", "n", "N", "a2", "a2_ci", "a3", "a3_ci", "vne_a2", "sonine2_a2", "sonine2_a3", "gap",

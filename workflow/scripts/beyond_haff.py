@@ -1,7 +1,7 @@
 """Beyond the papers: Haff's law.  Free cooling (thermostat none) of Maxwell molecules,
 T(t) = T0 e^{-gamma pi C (1 - alpha^2) t} exactly (GRW05 eq. 16 with beta = 0), and of hard
 spheres, T(t) = T0/(1 + t/t0)^2 with t0 from the cooling rate with the first-Sonine a2 of the HCS
-(granboltz.beyond.haff_temperature; both with the centred estimator's factor 1 - 1/n).
+(granboltz.reproduction.beyond.haff_temperature; both with the centred estimator's factor 1 - 1/n).
 Writes the table (every observation, its sigma-distance), the figure (T on a log scale with its
 band; below, the ratio to the theory) and the summary with the computed verdict.
 """
@@ -13,9 +13,9 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 import numpy as np  # noqa: E402
 
 from granboltz import read_run  # noqa: E402
-from granboltz.beyond import haff_rows, haff_verdict  # noqa: E402
-from granboltz.files import write_csv, write_json  # noqa: E402
-from granboltz.plotting import figure_summary, pyplot, save_figure  # noqa: E402
+from granboltz.reproduction.beyond import haff_rows, haff_verdict  # noqa: E402
+from granboltz.output.files import write_csv, write_json  # noqa: E402
+from granboltz.output.plotting import figure_summary, pyplot, save_figure  # noqa: E402
 
 runs = [read_run(path) for path in snakemake.input.runs]
 rows = haff_rows(runs)

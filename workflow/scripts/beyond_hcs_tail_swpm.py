@@ -1,7 +1,7 @@
 """Beyond the papers: the exponential tail of the homogeneous cooling state of hard spheres with
 weighted particles (SWPM, importance splitting along the Gaussian thermostat's drift), one run per
 alpha.  Per run: b and A of f ~ exp(-A c^b), c = |v - V|/v0, from the steady histogram
-(granboltz.hcs_tail.hcs_tail_summary), against b = 1 and A = 8 pi gamma C v0/zeta with the cooling
+(granboltz.reproduction.hcs_tail.hcs_tail_summary), against b = 1 and A = 8 pi gamma C v0/zeta with the cooling
 rate zeta measured in the same run (/steady/cooling_rate), and the depth f/f(0) resolved.
 """
 
@@ -12,9 +12,9 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 import h5py  # noqa: E402
 import yaml  # noqa: E402
 
-from granboltz.files import write_csv, write_json  # noqa: E402
-from granboltz.hcs_tail import HCS_TAIL_COLUMNS, hcs_tail_row_verdict, hcs_tail_summary  # noqa: E402
-from granboltz.local_exponent import shells_from_h5  # noqa: E402
+from granboltz.output.files import write_csv, write_json  # noqa: E402
+from granboltz.reproduction.hcs_tail import HCS_TAIL_COLUMNS, hcs_tail_row_verdict, hcs_tail_summary  # noqa: E402
+from granboltz.analysis.local_exponent import shells_from_h5  # noqa: E402
 
 p = snakemake.params
 fit = p.fit

@@ -1,6 +1,6 @@
 """Beyond the papers: T1/T2 of the homogeneous cooling state (Gaussian thermostat) of a binary
 mixture of hard spheres, equal diameters, x1 = 1/2, against the Maxwellian approximation of
-Garzó-Dufty (granboltz.mixtures).  Rows, interval and verdict: granboltz.mixtures (mixture_rows,
+Garzó-Dufty (granboltz.reproduction.mixtures).  Rows, interval and verdict: granboltz.reproduction.mixtures (mixture_rows,
 mixture_verdict).  Writes the table, the figure (T1/T2 against alpha, one curve per mass ratio,
 and the relative difference below) and the summary with the computed verdict: a comparison with
 an approximation, never a failure.
@@ -13,9 +13,9 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 import numpy as np  # noqa: E402
 
 from granboltz import read_run  # noqa: E402
-from granboltz.files import write_csv, write_json  # noqa: E402
-from granboltz.mixtures import mixture_rows, mixture_verdict, temperature_ratio  # noqa: E402
-from granboltz.plotting import figure_summary, pyplot, save_figure  # noqa: E402
+from granboltz.output.files import write_csv, write_json  # noqa: E402
+from granboltz.reproduction.mixtures import mixture_rows, mixture_verdict, temperature_ratio  # noqa: E402
+from granboltz.output.plotting import figure_summary, pyplot, save_figure  # noqa: E402
 
 rows = mixture_rows([read_run(path) for path in snakemake.input.runs])
 columns = ["mass_ratio", "alpha", "t1_t2", "t1_t2_ci", "t1_t2_garzo_dufty", "difference", "x1", "n", "N", "T1", "T1_ci",

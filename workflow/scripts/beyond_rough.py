@@ -1,7 +1,7 @@
 """Beyond the papers: theta = T_rot/T_tr of rough hard spheres (kappa = 2/5) in the homogeneous
 cooling state (Gaussian thermostat) and under white noise on the translational velocities,
-against the Maxwellian approximation of Huthmann-Zippelius and Luding et al. (granboltz.rough).
-Rows, interval and verdict: granboltz.rough (rough_rows, rough_verdict).  Writes the table, the
+against the Maxwellian approximation of Huthmann-Zippelius and Luding et al. (granboltz.reproduction.rough).
+Rows, interval and verdict: granboltz.reproduction.rough (rough_rows, rough_verdict).  Writes the table, the
 figure (theta against beta, one panel per thermostat, a curve per alpha) and the summary with the
 computed verdict: a comparison with an approximation, never a failure.
 """
@@ -13,9 +13,9 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 import numpy as np  # noqa: E402
 
 from granboltz import read_run  # noqa: E402
-from granboltz.files import write_csv, write_json  # noqa: E402
-from granboltz.plotting import figure_summary, pyplot, save_figure  # noqa: E402
-from granboltz.rough import rough_rows, rough_verdict, theta  # noqa: E402
+from granboltz.output.files import write_csv, write_json  # noqa: E402
+from granboltz.output.plotting import figure_summary, pyplot, save_figure  # noqa: E402
+from granboltz.reproduction.rough import rough_rows, rough_verdict, theta  # noqa: E402
 
 rows = rough_rows([read_run(path) for path in snakemake.input.runs])
 columns = ["thermostat", "alpha", "beta", "theta", "theta_ci", "theta_maxwellian", "difference", "kappa", "n", "N",

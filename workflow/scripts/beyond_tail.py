@@ -1,5 +1,5 @@
 """Beyond the papers: the tail of the homogeneous cooling state.  The local exponent
-b(r) = 1 + d ln(-d_r ln f)/d ln r (granboltz.local_exponent, as for the tails of GRW05) of the
+b(r) = 1 + d ln(-d_r ln f)/d ln r (granboltz.analysis.local_exponent, as for the tails of GRW05) of the
 scaled velocity distribution of hard spheres under the Gaussian thermostat, averaged over the
 steady observations, against the predicted exponential tail f ~ e^{-A c} (b = 1 for hard spheres
 in the HCS; van Noije & Ernst 1998).  b(r) leaves the Gaussian core (b = 2) and falls towards 1.
@@ -12,10 +12,10 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 import numpy as np  # noqa: E402
 
 from granboltz import read_run  # noqa: E402
-from granboltz.beyond import steady_histogram, tail_verdict  # noqa: E402
-from granboltz.files import write_csv, write_json  # noqa: E402
-from granboltz.local_exponent import far_estimate, local_exponent, pool_shells  # noqa: E402
-from granboltz.plotting import figure_summary, pyplot, save_figure  # noqa: E402
+from granboltz.reproduction.beyond import steady_histogram, tail_verdict  # noqa: E402
+from granboltz.output.files import write_csv, write_json  # noqa: E402
+from granboltz.analysis.local_exponent import far_estimate, local_exponent, pool_shells  # noqa: E402
+from granboltz.output.plotting import figure_summary, pyplot, save_figure  # noqa: E402
 
 p = snakemake.params
 run = read_run(snakemake.input.run)

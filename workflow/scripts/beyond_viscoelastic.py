@@ -1,6 +1,6 @@
 """Beyond the papers: free cooling of viscoelastic hard spheres, T ~ t^(-5/3) at late times
 (Brilliantov & Pöschel), not Haff's t^(-2); and the elastic limit delta = 0, T constant.
-Theory, rows and verdict: granboltz.viscoelastic (the Maxwellian moment equation with the full law).
+Theory, rows and verdict: granboltz.reproduction.viscoelastic (the Maxwellian moment equation with the full law).
 Writes the table (log-spaced times: T, theory, local slope, a2), the figure (T on log-log axes with
 the theory; below, the local slope d ln T/d ln t against -5/3 and -2, the late-window fit) and the
 summary with the computed verdict.
@@ -13,9 +13,9 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 import numpy as np  # noqa: E402
 
 from granboltz import read_run  # noqa: E402
-from granboltz import viscoelastic as ve  # noqa: E402
-from granboltz.files import write_csv, write_json  # noqa: E402
-from granboltz.plotting import figure_summary, pyplot, save_figure  # noqa: E402
+from granboltz.reproduction import viscoelastic as ve  # noqa: E402
+from granboltz.output.files import write_csv, write_json  # noqa: E402
+from granboltz.output.plotting import figure_summary, pyplot, save_figure  # noqa: E402
 
 runs = [read_run(path) for path in snakemake.input.runs]
 rows = ve.viscoelastic_rows(runs, snakemake.params.rows, snakemake.params.late_from)

@@ -4,7 +4,7 @@ params.label = "n" (Fig. 3): no-splitting runs for several (n, N), one curve eac
 n = 256, 1024, 4096). params.label = "scheme" (Fig. 4): the no-splitting (thick), Strang and
 Euler runs (thin) at one n, N, K. params.exact (Fig. 3): also the exact Crit(t) and Crit(inf)
 of the moment hierarchy (lambda = 0). Crit is eq. (29) of the ensemble means of the moments
-(granboltz.dsmc.crit_of_means: it starts from zero for the Maxwellian of eq. 26, as in the
+(granboltz.reproduction.dsmc.crit_of_means: it starts from zero for the Maxwellian of eq. 26, as in the
 paper; the mean of the per-ensemble Crit, the simulator's /crit, carries a sampling bias of
 order 1/sqrt(n) and is only given in the summary). The summary gives Crit(t_end) +- ci.
 """
@@ -13,11 +13,11 @@ import sys
 
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
-from granboltz.dsmc import crit_of_means, read_dsmc  # noqa: E402
-from granboltz.files import write_json  # noqa: E402
-from granboltz.maxwell_hierarchy import crit_exact, crit_steady  # noqa: E402
-from granboltz.moment_checks import hierarchy_physics  # noqa: E402
-from granboltz.plotting import figure_summary, pyplot, save_figure  # noqa: E402
+from granboltz.reproduction.dsmc import crit_of_means, read_dsmc  # noqa: E402
+from granboltz.output.files import write_json  # noqa: E402
+from granboltz.theory.maxwell_hierarchy import crit_exact, crit_steady  # noqa: E402
+from granboltz.analysis.moment_checks import hierarchy_physics  # noqa: E402
+from granboltz.output.plotting import figure_summary, pyplot, save_figure  # noqa: E402
 
 NAMES = {"nosplit": "no-splitting", "strang": "Strang splitting", "euler": "Euler splitting"}
 plt = pyplot()

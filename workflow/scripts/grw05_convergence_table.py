@@ -4,16 +4,16 @@ For each run (one per particle number n): E_max, the maximal relative error of t
 against the analytic solution (GRW05 eqs. 16/34, 35); CF, the ratio of consecutive E_max
 (about 4 for O(1/n)); V_inf, the maximal norm of the bulk velocity; plus our confidence columns
 and the error of the centred temperature. The error is that of the uncentred estimator
-(1/3)|v|^2, the one the paper used (RW05 §4.1). Columns: granboltz.tables.TABLE_COLUMNS.
+(1/3)|v|^2, the one the paper used (RW05 §4.1). Columns: granboltz.reproduction.tables.TABLE_COLUMNS.
 """
 
 import sys
 
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
-from granboltz.dsmc import read_dsmc  # noqa: E402
-from granboltz.files import write_csv  # noqa: E402
-from granboltz.tables import convergence_rows, TABLE_COLUMNS  # noqa: E402
+from granboltz.reproduction.dsmc import read_dsmc  # noqa: E402
+from granboltz.output.files import write_csv  # noqa: E402
+from granboltz.reproduction.tables import convergence_rows, TABLE_COLUMNS  # noqa: E402
 
 runs = [read_dsmc(path) for path in snakemake.input.runs]
 rows = convergence_rows(runs)

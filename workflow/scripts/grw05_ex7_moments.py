@@ -1,5 +1,5 @@
 """GRW05 Example 7 (§5.3, lambda = 0): the speed moments M_2 ... M_2P of the final state against
-the exact moment hierarchy (granboltz.moment_checks, maxwell_hierarchy).
+the exact moment hierarchy (granboltz.analysis.moment_checks, maxwell_hierarchy).
 
 P = params.moments (8: M_2 ... M_16; the run may hold more).
 Output csv: p, exact (M_2p at t_end from the initial Maxwellian: the exact time-dependent value),
@@ -13,8 +13,8 @@ import sys
 
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
-from granboltz.files import write_csv  # noqa: E402
-from granboltz.moment_checks import (AMPLITUDE_COLUMNS, MOMENT_COLUMNS, amplitude_rows,  # noqa: E402
+from granboltz.output.files import write_csv  # noqa: E402
+from granboltz.analysis.moment_checks import (AMPLITUDE_COLUMNS, MOMENT_COLUMNS, amplitude_rows,  # noqa: E402
                                      hierarchy_physics, moment_rows, moment_verdict, read_speed_moments)
 
 (path,) = snakemake.input.runs

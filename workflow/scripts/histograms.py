@@ -11,9 +11,9 @@ import sys
 
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
-from granboltz.dsmc import read_histogram  # noqa: E402
-from granboltz.files import write_json  # noqa: E402
-from granboltz.plotting import figure_summary, pyplot, save_figure  # noqa: E402
+from granboltz.reproduction.dsmc import read_histogram  # noqa: E402
+from granboltz.output.files import write_json  # noqa: E402
+from granboltz.output.plotting import figure_summary, pyplot, save_figure  # noqa: E402
 
 plt = pyplot()
 (path,) = snakemake.input.runs

@@ -12,7 +12,7 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
 import csv  # noqa: E402
 
-from granboltz.files import write_text  # noqa: E402
+from granboltz.output.files import write_text  # noqa: E402
 from granboltz.report.latex import latex_table  # noqa: E402
 
 with open(snakemake.input.csv, newline="") as f:

@@ -14,8 +14,8 @@ import json  # noqa: E402
 import os  # noqa: E402
 import shutil  # noqa: E402
 
-from granboltz.files import read_csv, write_text  # noqa: E402
-from granboltz.io import open_run, run_attrs  # noqa: E402
+from granboltz.output.files import read_csv, write_text  # noqa: E402
+from granboltz.output.io import open_run, run_attrs  # noqa: E402
 from granboltz.report import build_document, render_html, render_md  # noqa: E402
 
 inp, items = snakemake.input, snakemake.params.manifest

@@ -5,16 +5,16 @@ temperature against eq. (28) at t_K and over all t_k, Conf_end, the relative con
 half-width at t_K (lambda_p = 3.2), and their convergence factors CF (quotients of consecutive
 rows: about 4 for the errors, O(1/n), and 2 for Conf_end, O(1/sqrt(n))). The temperature is the
 uncentred estimator phi(v) = |v|^2/3 that RW05 §4.1 uses. Columns:
-granboltz.tables.RW05_TABLE1_COLUMNS (the paper's, then ours).
+granboltz.reproduction.tables.RW05_TABLE1_COLUMNS (the paper's, then ours).
 """
 
 import sys
 
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
-from granboltz.dsmc import read_dsmc  # noqa: E402
-from granboltz.files import write_csv  # noqa: E402
-from granboltz.tables import RW05_TABLE1_COLUMNS, rw05_table1_rows  # noqa: E402
+from granboltz.reproduction.dsmc import read_dsmc  # noqa: E402
+from granboltz.output.files import write_csv  # noqa: E402
+from granboltz.reproduction.tables import RW05_TABLE1_COLUMNS, rw05_table1_rows  # noqa: E402
 
 runs = [read_dsmc(path) for path in snakemake.input.runs]
 rows = rw05_table1_rows(runs)

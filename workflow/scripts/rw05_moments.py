@@ -1,7 +1,7 @@
 """RW05 Fig. 3 (§4.1) against the exact moment hierarchy (lambda = 0).
 
 For each run of Fig. 3 (n, N): <|v - V|^4>(t) (/moment_4) relative to the exact M_4(t) and
-Crit(t) (crit_of_means) minus the exact Crit(t) (granboltz.maxwell_hierarchy), with their bands
+Crit(t) (crit_of_means) minus the exact Crit(t) (granboltz.theory.maxwell_hierarchy), with their bands
 (lambda_p = 3.2).  Output csv: every n at the times params.times (moment_checks.RW05_COLUMNS).
 Summary: the verdict for the largest n (is the exact Crit inside its band at every observation
 time?), with the estimator bias of Crit at the ensemble means (moment_checks.crit_estimator_bias).
@@ -13,10 +13,10 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
 import numpy as np  # noqa: E402
 
-from granboltz.dsmc import read_dsmc  # noqa: E402
-from granboltz.files import write_csv, write_json  # noqa: E402
-from granboltz.moment_checks import RW05_COLUMNS, crit_estimator_bias, crit_verdict, rw05_moment_rows  # noqa: E402
-from granboltz.plotting import figure_summary, pyplot, save_figure  # noqa: E402
+from granboltz.reproduction.dsmc import read_dsmc  # noqa: E402
+from granboltz.output.files import write_csv, write_json  # noqa: E402
+from granboltz.analysis.moment_checks import RW05_COLUMNS, crit_estimator_bias, crit_verdict, rw05_moment_rows  # noqa: E402
+from granboltz.output.plotting import figure_summary, pyplot, save_figure  # noqa: E402
 
 plt = pyplot()
 runs = sorted((read_dsmc(path) for path in snakemake.input.runs), key=lambda r: r.n)

@@ -8,8 +8,8 @@ import sys
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
 from granboltz import read_run  # noqa: E402
-from granboltz.files import write_csv, write_json  # noqa: E402
-from granboltz.plotting import figure_summary, pyplot, save_figure  # noqa: E402
+from granboltz.output.files import write_csv, write_json  # noqa: E402
+from granboltz.output.plotting import figure_summary, pyplot, save_figure  # noqa: E402
 from granboltz.rheology import COLUMNS, shear_rheology  # noqa: E402
 from granboltz.transport_table import RHEOLOGY_COMPONENTS, rheology_verdict  # noqa: E402
 

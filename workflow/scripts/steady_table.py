@@ -14,9 +14,9 @@ import sys
 
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
-from granboltz.dsmc import read_steady  # noqa: E402
-from granboltz.files import write_csv  # noqa: E402
-from granboltz.steady import STEADY_COLUMNS, steady_rows  # noqa: E402
+from granboltz.reproduction.dsmc import read_steady  # noqa: E402
+from granboltz.output.files import write_csv  # noqa: E402
+from granboltz.reproduction.steady import STEADY_COLUMNS, steady_rows  # noqa: E402
 
 steadies = [read_steady(path) for path in snakemake.input.runs]
 (path,) = set(snakemake.input.nosplit)

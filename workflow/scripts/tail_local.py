@@ -4,7 +4,7 @@ b(r) = 1 + d ln(-d_r ln f)/d ln r on sliding windows of pooled shells, with its 
 the delta method), against the theory b = 1 + lambda/2 (tail_theory) and against b(r) of the
 theory tail r^chi exp(-a r^b) with a, chi fitted at that b (dashed); shaded: the paper's eq. (38)
 window and the configured one (x = ln(k - k0) in r); dotted: where the data run out
-(local_exponent.data_limit).  Summary: granboltz.tail_local.SUMMARY_KEYS and the verdict.
+(local_exponent.data_limit).  Summary: granboltz.analysis.tail_local.SUMMARY_KEYS and the verdict.
 """
 
 import sys
@@ -13,11 +13,11 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
 import numpy as np  # noqa: E402
 
-from granboltz.dsmc import read_histogram  # noqa: E402
-from granboltz.files import write_json  # noqa: E402
-from granboltz.local_exponent import shells_from_h5  # noqa: E402
-from granboltz.plotting import figure_summary, pyplot, save_figure  # noqa: E402
-from granboltz.tail_local import local_tail_summary, local_verdict, model_local_exponent, window_radii  # noqa: E402
+from granboltz.reproduction.dsmc import read_histogram  # noqa: E402
+from granboltz.output.files import write_json  # noqa: E402
+from granboltz.analysis.local_exponent import shells_from_h5  # noqa: E402
+from granboltz.output.plotting import figure_summary, pyplot, save_figure  # noqa: E402
+from granboltz.analysis.tail_local import local_tail_summary, local_verdict, model_local_exponent, window_radii  # noqa: E402
 
 plt = pyplot()
 tails, example = snakemake.params.tails, snakemake.params.example

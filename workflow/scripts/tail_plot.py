@@ -15,10 +15,10 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
 import numpy as np  # noqa: E402
 
-from granboltz.dsmc import read_histogram  # noqa: E402
-from granboltz.files import write_json  # noqa: E402
-from granboltz.plotting import figure_summary, pyplot, save_figure  # noqa: E402
-from granboltz.tails import fit_tail, tail_points, window_text  # noqa: E402
+from granboltz.reproduction.dsmc import read_histogram  # noqa: E402
+from granboltz.output.files import write_json  # noqa: E402
+from granboltz.output.plotting import figure_summary, pyplot, save_figure  # noqa: E402
+from granboltz.analysis.tails import fit_tail, tail_points, window_text  # noqa: E402
 
 plt = pyplot()
 tails, c = snakemake.params.tails, snakemake.params.guide_intercept

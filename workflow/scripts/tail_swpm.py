@@ -4,8 +4,8 @@ Left panel: ln(f/f(0)) per shell with its confidence band (z = 3.2), SWPM and co
 filled markers are resolved shells (relative half-width below tails.swpm.max_rel_ci), open ones
 are not: the constant-weight noise floor is where its open markers begin.  Dashed: the theory
 tail's slope a r^b (a, b to leading order) through the SWPM fit's intercept.  Right panel: the
-local exponent b(r) of both runs (granboltz.local_exponent) against theory.  Summary: the numbers
-of granboltz.tail_swpm.SWPM_KEYS and the verdict (swpm_verdict).
+local exponent b(r) of both runs (granboltz.analysis.local_exponent) against theory.  Summary: the numbers
+of granboltz.analysis.tail_swpm.SWPM_KEYS and the verdict (swpm_verdict).
 """
 
 import sys
@@ -14,10 +14,10 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
 import numpy as np  # noqa: E402
 
-from granboltz.files import write_json  # noqa: E402
-from granboltz.local_exponent import local_exponent, pool_shells, shells_from_h5  # noqa: E402
-from granboltz.plotting import figure_summary, pyplot, save_figure  # noqa: E402
-from granboltz.tail_swpm import effective_counts, shell_profile, swpm_kind, swpm_tail_summary, swpm_verdict  # noqa: E402
+from granboltz.output.files import write_json  # noqa: E402
+from granboltz.analysis.local_exponent import local_exponent, pool_shells, shells_from_h5  # noqa: E402
+from granboltz.output.plotting import figure_summary, pyplot, save_figure  # noqa: E402
+from granboltz.analysis.tail_swpm import effective_counts, shell_profile, swpm_kind, swpm_tail_summary, swpm_verdict  # noqa: E402
 
 plt = pyplot()
 tails, example = snakemake.params.tails, snakemake.params.example

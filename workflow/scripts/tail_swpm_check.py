@@ -3,7 +3,7 @@ tail as importance function and once with another shape (config grw05.tails.swpm
 
 Left panel: ln f(r)/f(0) of both runs (resolved shells filled).  Right panel: the difference of the
 two ln f with its confidence band, which must straddle 0 wherever both are resolved.  Summary: b, a
-and the depth of both (granboltz.tail_swpm.swpm_tail_summary) and the verdict: the two b agree within
+and the depth of both (granboltz.analysis.tail_swpm.swpm_tail_summary) and the verdict: the two b agree within
 the goal's tolerance on b (0.03) and the two a within its tolerance on a (5 %), i.e. the importance
 function does not decide the result.  Whether they also agree within the fits' half-widths is said:
 those treat the shells as independent, while the shells of one ensemble share ancestors, so the
@@ -16,10 +16,10 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
 import numpy as np  # noqa: E402
 
-from granboltz.files import write_json  # noqa: E402
-from granboltz.local_exponent import shells_from_h5  # noqa: E402
-from granboltz.plotting import figure_summary, pyplot, save_figure  # noqa: E402
-from granboltz.tail_swpm import shell_profile, swpm_tail_summary  # noqa: E402
+from granboltz.output.files import write_json  # noqa: E402
+from granboltz.analysis.local_exponent import shells_from_h5  # noqa: E402
+from granboltz.output.plotting import figure_summary, pyplot, save_figure  # noqa: E402
+from granboltz.analysis.tail_swpm import shell_profile, swpm_tail_summary  # noqa: E402
 
 plt = pyplot()
 tails, example = snakemake.params.tails, snakemake.params.example
@@ -62,7 +62,7 @@ save_figure(fig, [snakemake.output.png, snakemake.output.pdf])
 t, c = s["theory"], s["check"]
 db, da = c["b_swpm"] - t["b_swpm"], c["a_swpm"] - t["a_swpm"]
 hb, ha = np.hypot(t["b_swpm_ci"], c["b_swpm_ci"]), np.hypot(t["a_swpm_ci"], c["a_swpm_ci"])
-B_TOL, A_REL = 0.03, 0.05  # the weighted-particle goal's tolerances (granboltz.tail_swpm.swpm_verdict)
+B_TOL, A_REL = 0.03, 0.05  # the weighted-particle goal's tolerances (granboltz.analysis.tail_swpm.swpm_verdict)
 ok = bool(np.isfinite(db) and abs(db) <= B_TOL and abs(da) <= A_REL * t["a_swpm"])
 within = "within" if abs(db) <= hb and abs(da) <= ha else "beyond"
 text = (f"with {label('check')}: b = {c['b_swpm']:.3f} ± {c['b_swpm_ci']:.3f}, a = {c['a_swpm']:.3f} ± "

@@ -14,10 +14,10 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
 import numpy as np  # noqa: E402
 
-from granboltz.dsmc import read_dsmc  # noqa: E402
-from granboltz.files import write_json  # noqa: E402
-from granboltz.plotting import figure_summary, pyplot, save_figure  # noqa: E402
-from granboltz.dimension import dsmc_geometry  # noqa: E402
+from granboltz.reproduction.dsmc import read_dsmc  # noqa: E402
+from granboltz.output.files import write_json  # noqa: E402
+from granboltz.output.plotting import figure_summary, pyplot, save_figure  # noqa: E402
+from granboltz.theory.dimension import dsmc_geometry  # noqa: E402
 from granboltz.theory import analytic_temperature, run_analytic_temperature  # noqa: E402
 
 plt = pyplot()

@@ -12,9 +12,9 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
 import numpy as np  # noqa: E402
 
-from granboltz.dsmc import read_dsmc  # noqa: E402
-from granboltz.files import write_json  # noqa: E402
-from granboltz.plotting import figure_summary, pyplot, save_figure  # noqa: E402
+from granboltz.reproduction.dsmc import read_dsmc  # noqa: E402
+from granboltz.output.files import write_json  # noqa: E402
+from granboltz.output.plotting import figure_summary, pyplot, save_figure  # noqa: E402
 
 plt = pyplot()
 runs = sorted((read_dsmc(path) for path in snakemake.input.runs), key=lambda r: r.n)

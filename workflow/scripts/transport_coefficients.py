@@ -11,8 +11,8 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 import numpy as np  # noqa: E402
 
 from granboltz import read_run, transport  # noqa: E402
-from granboltz.files import write_csv, write_json  # noqa: E402
-from granboltz.plotting import figure_summary, pyplot, save_figure  # noqa: E402
+from granboltz.output.files import write_csv, write_json  # noqa: E402
+from granboltz.output.plotting import figure_summary, pyplot, save_figure  # noqa: E402
 from granboltz.transport_table import COLUMNS, build_table, csv_rows, transport_verdict  # noqa: E402
 
 window = tuple(snakemake.params.window)

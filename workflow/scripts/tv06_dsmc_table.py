@@ -4,15 +4,15 @@ One row per (M, alpha): T/T_B of both methods with their 99.9 % confidence inter
 ensembles, the exact value of eq. (18), the difference DSMC - Gillespie against the joint
 interval hypot(ci_G, ci_D) (independent runs), and the cost: core nanoseconds per collision of
 each method (the simulator's wall time x threads / collisions, warm-up included) and the DSMC
-candidates per collision (granboltz.tv06_tables.dsmc_rows).
+candidates per collision (granboltz.reproduction.tv06_tables.dsmc_rows).
 """
 
 import sys
 
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
-from granboltz.files import write_csv  # noqa: E402
-from granboltz.tv06_tables import DSMC_COLUMNS, dsmc_rows, read_tv06  # noqa: E402
+from granboltz.output.files import write_csv  # noqa: E402
+from granboltz.reproduction.tv06_tables import DSMC_COLUMNS, dsmc_rows, read_tv06  # noqa: E402
 
 gillespie = [read_tv06(path) for path in snakemake.input.gillespie]
 dsmc = [read_tv06(path) for path in snakemake.input.dsmc]

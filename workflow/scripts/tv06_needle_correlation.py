@@ -2,7 +2,7 @@
 
 Fig. 7: the correlation coefficient R = <v^2 w^2>/(<v^2><w^2>) (eq. 30) against alpha for each
 M, with 99.9 % confidence intervals over the N ensembles; R = 1 at alpha = 1 (equipartition),
-the exact check. The table (granboltz.tv06_tables.needle_rows) adds T_trans/T_B and T_rot/T_B and checks
+the exact check. The table (granboltz.reproduction.tv06_tables.needle_rows) adds T_trans/T_B and T_rot/T_B and checks
 the statement of §3.2, T_B > T_translational > T_rotational for alpha < 1, point by point.
 """
 
@@ -11,10 +11,10 @@ import sys
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
 
-from granboltz.files import write_csv, write_json  # noqa: E402
-from granboltz.plotting import figure_summary, pyplot, save_figure  # noqa: E402
+from granboltz.output.files import write_csv, write_json  # noqa: E402
+from granboltz.output.plotting import figure_summary, pyplot, save_figure  # noqa: E402
 from granboltz.theory import LAMBDA_P  # noqa: E402
-from granboltz.tv06_tables import NEEDLE_COLUMNS, needle_rows, read_tv06  # noqa: E402
+from granboltz.reproduction.tv06_tables import NEEDLE_COLUMNS, needle_rows, read_tv06  # noqa: E402
 
 plt = pyplot()
 runs = [read_tv06(path) for path in snakemake.input.runs]

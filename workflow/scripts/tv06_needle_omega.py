@@ -17,11 +17,11 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 import numpy as np  # noqa: E402
 from scipy import stats  # noqa: E402
 
-from granboltz.files import write_csv, write_json  # noqa: E402
-from granboltz.plotting import figure_summary, pyplot, save_figure  # noqa: E402
+from granboltz.output.files import write_csv, write_json  # noqa: E402
+from granboltz.output.plotting import figure_summary, pyplot, save_figure  # noqa: E402
 from granboltz.theory import LAMBDA_P, t_coverage  # noqa: E402
-from granboltz.tv06_histograms import gaussian_fits  # noqa: E402
-from granboltz.tv06_tables import read_tv06  # noqa: E402
+from granboltz.reproduction.tv06_histograms import gaussian_fits  # noqa: E402
+from granboltz.reproduction.tv06_tables import read_tv06  # noqa: E402
 
 plt = pyplot()
 (run,) = [read_tv06(path) for path in snakemake.input.runs]

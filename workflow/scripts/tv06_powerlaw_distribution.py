@@ -2,7 +2,7 @@
 power-law bath, eq. (19), one per alpha. Left: the density of v1 (bins of params.bin_width) with
 the exact solution at alpha = M dashed: the intruder takes the colliding velocity (eq. 17), so its
 distribution is the bath's f(v, a) itself (T = M <v1^2> = alpha T_B); it is checked bin by bin
-(granboltz.tv06_histograms.histogram_check, |v1| <= check_range). Right (the paper's inset):
+(granboltz.reproduction.tv06_histograms.histogram_check, |v1| <= check_range). Right (the paper's inset):
 log-log density of |v1| with a v^-4 guide; least-squares exponents on tail_window (theory -4).
 """
 
@@ -12,11 +12,11 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
 import numpy as np  # noqa: E402
 
-from granboltz.files import write_csv, write_json  # noqa: E402
-from granboltz.plotting import figure_summary, pyplot, save_figure  # noqa: E402
+from granboltz.output.files import write_csv, write_json  # noqa: E402
+from granboltz.output.plotting import figure_summary, pyplot, save_figure  # noqa: E402
 from granboltz.theory import exact_temperature_ratio, powerlaw_pdf, t_coverage  # noqa: E402
-from granboltz.tv06_histograms import folded_tail, histogram_check, rebin, tail_exponent  # noqa: E402
-from granboltz.tv06_tables import read_tv06  # noqa: E402
+from granboltz.reproduction.tv06_histograms import folded_tail, histogram_check, rebin, tail_exponent  # noqa: E402
+from granboltz.reproduction.tv06_tables import read_tv06  # noqa: E402
 
 plt = pyplot()
 p = snakemake.params

@@ -6,7 +6,7 @@ errors). CAVEAT: v1^2 has infinite variance in this bath (v^-4 tails), so that i
 what does not hold and undercovers (docs/tv06.md: 4.7 % of repeated runs beyond 3.2 standard
 errors instead of 0.14 %, all low); grey dots show the N per-ensemble values, whose skewed
 spread is the honest picture. Stars: the exact T/T_B = alpha at M = alpha (any bath). The table
-is granboltz.tv06_tables.temperature_rows; the summary compares each M with its Gaussian curve.
+is granboltz.reproduction.tv06_tables.temperature_rows; the summary compares each M with its Gaussian curve.
 """
 
 import sys
@@ -15,10 +15,10 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
 import numpy as np  # noqa: E402
 
-from granboltz.files import write_csv, write_json  # noqa: E402
-from granboltz.plotting import figure_summary, pyplot, save_figure  # noqa: E402
+from granboltz.output.files import write_csv, write_json  # noqa: E402
+from granboltz.output.plotting import figure_summary, pyplot, save_figure  # noqa: E402
 from granboltz.theory import gaussian_temperature_ratio  # noqa: E402
-from granboltz.tv06_tables import read_tv06, TEMPERATURE_COLUMNS, temperature_rows  # noqa: E402
+from granboltz.reproduction.tv06_tables import read_tv06, TEMPERATURE_COLUMNS, temperature_rows  # noqa: E402
 
 plt = pyplot()
 runs = [read_tv06(path) for path in snakemake.input.runs]

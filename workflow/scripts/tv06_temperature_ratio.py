@@ -2,7 +2,7 @@
 exact curve of Martin and Piasecki, eq. (18), T/T_B = (1 + alpha)/(2 + (1 - alpha)/M).
 
 Symbols: the mean over the N ensembles with its 99.9 % confidence interval (the simulator's
-ci = 3.2 sqrt(var/N)); solid curve: eq. (18). The table (granboltz.tv06_tables.temperature_rows) has every
+ci = 3.2 sqrt(var/N)); solid curve: eq. (18). The table (granboltz.reproduction.tv06_tables.temperature_rows) has every
 point with the exact value, z = (mean - exact)/(ci/3.2) and whether the exact value is within
 the ci; the summary counts those.
 """
@@ -13,10 +13,10 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
 import numpy as np  # noqa: E402
 
-from granboltz.files import write_csv, write_json  # noqa: E402
-from granboltz.plotting import figure_summary, pyplot, save_figure  # noqa: E402
+from granboltz.output.files import write_csv, write_json  # noqa: E402
+from granboltz.output.plotting import figure_summary, pyplot, save_figure  # noqa: E402
 from granboltz.theory import gaussian_temperature_ratio, t_coverage  # noqa: E402
-from granboltz.tv06_tables import read_tv06, TEMPERATURE_COLUMNS, temperature_rows  # noqa: E402
+from granboltz.reproduction.tv06_tables import read_tv06, TEMPERATURE_COLUMNS, temperature_rows  # noqa: E402
 
 plt = pyplot()
 runs = [read_tv06(path) for path in snakemake.input.runs]

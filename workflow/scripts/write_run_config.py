@@ -11,7 +11,7 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
 import yaml  # noqa: E402
 
-from granboltz.files import atomic_path  # noqa: E402
+from granboltz.output.files import atomic_path  # noqa: E402
 
 text = "# written by workflow/scripts/write_run_config.py from the Snakemake config\n"
 text += yaml.safe_dump(dict(snakemake.params.run), sort_keys=False)

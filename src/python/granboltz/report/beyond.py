@@ -3,11 +3,11 @@ of the homogeneous cooling state (Gaussian thermostat) and of the white-noise st
 HCS tail, viscoelastic free cooling, a2 and a3 of hard disks (d = 2), T1/T2 of a binary mixture,
 theta of rough spheres; and the comparisons of its seven tables (registered in document.COMPARE)."""
 
-from ..beyond import Z, a2_item_verdict, a2_verdict, haff_verdict, tail_verdict
-from ..disks import FINITE_N, GAP_FACTOR, disk_a2_verdict, disk_item_verdict, disk_judge, disk_place
-from ..mixtures import mixture_verdict
-from ..rough import rough_verdict
-from ..viscoelastic import KAPPA, short_verdict, viscoelastic_verdict
+from ..reproduction.beyond import Z, a2_item_verdict, a2_verdict, haff_verdict, tail_verdict
+from ..reproduction.disks import FINITE_N, GAP_FACTOR, disk_a2_verdict, disk_item_verdict, disk_judge, disk_place
+from ..reproduction.mixtures import mixture_verdict
+from ..reproduction.rough import rough_verdict
+from ..reproduction.viscoelastic import KAPPA, short_verdict, viscoelastic_verdict
 from .numbers import DASH, Verdict, fl, marked, num, pm
 
 BEYOND = "Beyond the papers"

@@ -4,7 +4,7 @@ with the run's own cooling rate, and the depth reached (granboltz.hcs_tail)."""
 
 import math
 
-from ..hcs_tail import hcs_tail_row_verdict
+from ..reproduction.hcs_tail import hcs_tail_row_verdict
 from .numbers import Verdict, combined_kind, fl, num, pm
 
 # The targets of config beyond.hcs_tail_swpm (b_tol, A_rel, depth) in both profiles.

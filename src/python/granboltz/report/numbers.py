@@ -6,7 +6,7 @@ and the known typos of the published tables.
 import math
 import re
 
-from ..tables import fit_order
+from ..reproduction.tables import fit_order
 from ..theory import LAMBDA_P  # noqa: F401 (the report's modules take it from here)
 
 # N of the published tables (from the papers' text: GRW05 §5.2, RW05 §4.1) and their typos

@@ -2,7 +2,7 @@
 7-9 with SWPM against constant weights, the table of b, a and the depth per example against theory,
 and one verdict per example (granboltz.tail_swpm.swpm_verdict)."""
 
-from ..tail_swpm import swpm_verdict
+from ..analysis.tail_swpm import swpm_verdict
 from .numbers import DASH, marked, num, pm
 
 SWPM = "Weighted particles"

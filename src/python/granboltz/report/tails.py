@@ -4,8 +4,8 @@ moments of Example 7 against the exact hierarchy."""
 
 import math
 
-from ..moment_checks import moment_verdict
-from ..tail_local import local_verdict
+from ..analysis.moment_checks import moment_verdict
+from ..analysis.tail_local import local_verdict
 from .numbers import DASH, Verdict, fl, num
 
 B_TOL = 0.03  # the weighted-particle goal: the fitted form's model error allowed beside the CI

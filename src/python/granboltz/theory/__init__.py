@@ -7,6 +7,12 @@ Modules:
     maxwell_hierarchy  the exact moment hierarchy of Maxwell molecules
     tail_theory        the high-energy tail amplitude from the moments
     dimension          the checks of the dimension d and the collision geometry
+    hcs                Haff's law and the a2 references of the homogeneous cooling state
+    hcs_tail           the exponential tail of the HCS of hard spheres: its amplitude, the cooling rates
+    viscoelastic       the viscoelastic restitution law and its free cooling, T ~ t^(-5/3)
+    disks              the Sonine references and the white-noise temperature of hard disks (d = 2)
+    mixtures           Garzó-Dufty partial cooling rates, the temperature ratios, Martin-Piasecki
+    rough              rough particles: theta = T_rot/T_tr of the HCS and of white noise
 
 LAMBDA_P, the confidence half-width factor of the whole project, is defined here (and only here);
 the other names of closed_forms are loaded on first use, so that importing this package is light.
@@ -14,7 +20,8 @@ the other names of closed_forms are loaded on first use, so that importing this 
 
 LAMBDA_P = 3.2  # confidence half-width factor of GRW05 §5.1 (p = 0.999); the simulator's ci
 
-_SUBMODULES = {"closed_forms", "sonine", "maxwell_hierarchy", "tail_theory", "dimension"}
+_SUBMODULES = {"closed_forms", "sonine", "maxwell_hierarchy", "tail_theory", "dimension", "hcs", "hcs_tail",
+               "viscoelastic", "disks", "mixtures", "rough"}
 
 
 def __getattr__(name):

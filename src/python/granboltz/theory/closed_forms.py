@@ -20,7 +20,7 @@ from . import LAMBDA_P
 def maxwell_rate(alpha, gamma, C0, d=3, geometry=None):
     """k of dT/dt = 2 beta - k T for Maxwell molecules (lambda = 0) [exact]: gamma pi C0 (1 -
     alpha^2) in d = 3 (GRW05 eq. 16); in d = 2 (2 pi/3) gamma C0 (1 - alpha^2) for disk impacts
-    and (pi/2) gamma C0 (1 - alpha^2) for the uniform law (granboltz.sonine.cooling_rate)."""
+    and (pi/2) gamma C0 (1 - alpha^2) for the uniform law (granboltz.theory.sonine.cooling_rate)."""
     d = check_dimension(d, (2, 3), "maxwell_rate")
     geometry = check_geometry(d, geometry, "maxwell_rate", ("impact", "uniform"))
     if d == 3:
@@ -186,7 +186,7 @@ def t_coverage(N, lambda_p=LAMBDA_P):
 
 
 # ----------------------------------------------------------------------------- Sonine theory
-# Kept in granboltz.sonine (with its references); its public names are also theory's, where a
+# Kept in granboltz.theory.sonine (with its references); its public names are also theory's, where a
 # reader looks for the steady temperature and a2, a3 of hard spheres and of Maxwell molecules.
 from .sonine import (  # noqa: E402,F401
     cooling_rate,

@@ -1,5 +1,5 @@
 r"""Exact moment hierarchy of the heated inelastic Boltzmann equation, Maxwell pseudomolecules, d = 3
-(every function takes d and raises ValueError for another: granboltz.dimension).
+(every function takes d and raises ValueError for another: granboltz.theory.dimension).
 
 Equation (GRW05 eq. 1): f_t - beta Lap_v f = gamma Q_alpha(f), kernel B = C0 (lambda = 0, eq. 7),
 density 1, bulk velocity 0.  M_2p = <|v|^2p>, nu = 4 pi C0 gamma (the collision rate).

@@ -86,10 +86,10 @@ def second_sonine(alpha, thermostat="white_noise", d=3, geometry=None):
 def maxwell_a2(alpha, thermostat="white_noise", d=3):
     """a2 of Maxwell molecules (lambda = 0, d = 3) [exact: the moment hierarchy closes]:
     HCS 2(1-alpha)^2/(1 + 2alpha - alpha^2), white noise 2(1-alpha)^2(1+alpha)/(13 - 9alpha +
-    alpha^2 - alpha^3) (beyond.md §2; granboltz.maxwell_hierarchy gives the same).  The HCS value
+    alpha^2 - alpha^3) (beyond.md §2; granboltz.theory.maxwell_hierarchy gives the same).  The HCS value
     exists at every alpha, but the variance of its estimator is finite only above
     hcs_moment_threshold(4) = 0.4823 (<c^8> diverges below): no interval for a2 there.  d = 3
-    only (the hierarchy of granboltz.maxwell_hierarchy)."""
+    only (the hierarchy of granboltz.theory.maxwell_hierarchy)."""
     check_dimension(d, (3,), "maxwell_a2")
     a = np.asarray(alpha, dtype=float)
     if _is_hcs(thermostat):
@@ -117,7 +117,7 @@ def maxwell_a3(alpha, thermostat="white_noise", d=3):
 @lru_cache(maxsize=None)
 def hcs_moment_threshold(p, d=3):
     """The alpha below which <c^2p> of the Maxwell-molecule HCS is infinite [exact, to 1e-12]:
-    the root of r_p = p r_1 in the closed moment equations (granboltz.maxwell_hierarchy; below
+    the root of r_p = p r_1 in the closed moment equations (granboltz.theory.maxwell_hierarchy; below
     it the scaled moment grows without bound).  0.270111 (p = 3), 0.4823 (4), 0.5940 (5),
     0.6647 (6); 0.0 when the moment is finite at every alpha (p <= 2).  An interval for a2 needs
     <c^8> finite (p = 4), one for a3 needs <c^12> (p = 6).  d = 3 only."""

@@ -8,7 +8,7 @@ beta (d_r ln f)^2 = nu_lambda r^lambda, so
     f(r) ~ A r^chi exp(-a r^b),   b = 1 + lambda/2,   a = sqrt(nu_lambda / beta) / b
 
 (van Noije & Ernst 1998; Bobylev, Gamba & Panferov 2004 prove b = 3/2 for hard spheres).  For
-lambda = 0 the exact moments (granboltz.maxwell_hierarchy) check a: for f ~ r^chi e^{-a r} in 3-D,
+lambda = 0 the exact moments (granboltz.theory.maxwell_hierarchy) check a: for f ~ r^chi e^{-a r} in 3-D,
 M_2p ~ Gamma(2p + 3 + chi) / a^(2p+3+chi), so M_{2p+2}/M_2p -> (2p+3+chi)(2p+4+chi)/a^2.
 
 GRW05 fit y = ln(ln f_k0 - ln f_k) against x = ln(k - k0).  If ln f(0) - ln f(r) = a r^b + C'
