@@ -19,8 +19,8 @@ LAYERS = {"_core": 0,         # the compiled extension: the simulator itself, im
           "lib": 3,           # the simulator in this process
           "study": 4,         # parameter studies
           "reproduction": 5,  # the papers' tables and verdicts
-          # report/ counts as the top level until the transport modules it reads leave the top
-          "": 9}              # the top level: entry points, modules not yet in a sub-package, aliases
+          "report": 6,        # the reproduction report
+          "": 9}              # the top level: the entry points and the one-line aliases
 PURE = {"theory"}       # no files, processes or verdicts
 IMPURE_MODULES = {"h5py", "yaml", "pandas", "matplotlib", "os", "pathlib", "io", "shutil", "subprocess", "tempfile"}
 

@@ -3,7 +3,7 @@
 check-coverage`; minutes, so not in `make test`).
 
 R replicas (different seeds) of one thermostatted-HCS run with dsmc.correlations, each giving
-eta and D with an interval (granboltz.transport.green_kubo_coefficient). The interval is honest
+eta and D with an interval (granboltz.measured.green_kubo_coefficient). The interval is honest
 when the replicas' spread equals the sigma it reports (ci/lambda_p): the ratio must lie within
 [0.75, 1.33] for R >= 30 (the ratio of a sample sd over 30 replicas to the true sd lies within
 that band with probability ~0.995). For lambda = 0 the exact value is known too: the fraction of
@@ -23,9 +23,9 @@ import tempfile
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "src" / "python"))
 
-from granboltz import transport  # noqa: E402
-from granboltz.theory import LAMBDA_P  # noqa: E402
-from granboltz.transport_table import scales  # noqa: E402
+from granboltz.analysis import transport as measured  # noqa: E402
+from granboltz.theory import LAMBDA_P, transport  # noqa: E402
+from granboltz.reproduction.transport_table import scales  # noqa: E402
 
 CASES = [  # (label, lambda, alpha, d): the exact check and the hard spheres of the table
     ("maxwell", 0, 0.7, 3),
@@ -72,7 +72,7 @@ def main():
             out = cfg.with_suffix(".h5")
             subprocess.run([args.binary, "run", str(cfg), "-q", "-o", str(out)], check=True)
             for c in values:
-                values[c].append(transport.green_kubo_coefficient(out, c, T=1.0, zeta=s["zeta"], q=s["q"], d=d))
+                values[c].append(measured.green_kubo_coefficient(out, c, T=1.0, zeta=s["zeta"], q=s["q"], d=d))
         for c, pairs in values.items():
             v = [x for x, _ in pairs]
             sigma = statistics.fmean(ci for _, ci in pairs) / LAMBDA_P

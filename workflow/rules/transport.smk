@@ -48,7 +48,7 @@ def transport_C(d):
 
 def transport_nu(model, d):
     """The collision-rate unit of the reduced shear rate at T0: nu (lambda = 0) or nu0 (hard spheres)."""
-    from granboltz.shear import hard_sphere_nu0
+    from granboltz.theory.shear import hard_sphere_nu0
 
     C = transport_C(d)
     if model == "maxwell":

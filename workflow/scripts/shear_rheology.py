@@ -1,6 +1,6 @@
 """Transport and rheology: the table shear_rheology (granboltz.rheology), its figure (P_ij/p
 against alpha beside the exact lambda = 0 or Grad values) and the summary with the verdict
-computed by granboltz.transport_table.rheology_verdict."""
+computed by granboltz.reproduction.rheology.rheology_verdict."""
 
 import math
 import sys
@@ -10,8 +10,7 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 from granboltz import read_run  # noqa: E402
 from granboltz.output.files import write_csv, write_json  # noqa: E402
 from granboltz.output.plotting import figure_summary, pyplot, save_figure  # noqa: E402
-from granboltz.rheology import COLUMNS, shear_rheology  # noqa: E402
-from granboltz.transport_table import RHEOLOGY_COMPONENTS, rheology_verdict  # noqa: E402
+from granboltz.reproduction.rheology import COLUMNS, RHEOLOGY_COMPONENTS, rheology_verdict, shear_rheology  # noqa: E402
 
 frame = shear_rheology([read_run(p) for p in snakemake.input.runs])
 rows = frame.to_dict("records")

@@ -10,10 +10,12 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
 import numpy as np  # noqa: E402
 
-from granboltz import read_run, transport  # noqa: E402
+from granboltz.theory import transport  # noqa: E402
+
+from granboltz import read_run  # noqa: E402
 from granboltz.output.files import write_csv, write_json  # noqa: E402
 from granboltz.output.plotting import figure_summary, pyplot, save_figure  # noqa: E402
-from granboltz.transport_table import COLUMNS, build_table, csv_rows, transport_verdict  # noqa: E402
+from granboltz.reproduction.transport_table import COLUMNS, build_table, csv_rows, transport_verdict  # noqa: E402
 
 window = tuple(snakemake.params.window)
 rows = build_table({"relaxation": ([read_run(p) for p in snakemake.input.relaxation], {"window": window}),

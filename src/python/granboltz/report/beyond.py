@@ -196,7 +196,7 @@ def compare_beyond_disks_a2(name, ours, published=None, **_):
         "dropped) are approximations. The d = 2 first Sonine is beyond.md §1; the d = 2 second Sonine is not in "
         "beyond.md: it was derived for this project with exact symbolic Gaussian moments of the collision "
         "integrals (tests/sonine_moments.py, the script that reproduces every d = 3 entry of beyond.md) and is "
-        "checked by Gauss quadrature of the same integrals (tests/python/test_sonine.py).")
+        "checked by Gauss quadrature of the same integrals (tests/python/theory/test_sonine.py).")
     texts.append(
         f"Criterion (as tests/test_dimension.cpp): a2 agrees when |a2 − vNE| ≤ CI + {GAP_FACTOR:g}|vNE − second "
         f"Sonine| + {FINITE_N:g}/n (1 + |a2|), the approximation's error taken as {GAP_FACTOR:g}× its distance to the "

@@ -1,11 +1,11 @@
 """The report section "Transport and rheology": the comparisons of the tables
-`transport_coefficients` (granboltz.transport_table) and `shear_rheology` (granboltz.rheology),
-whose verdicts granboltz.transport_table computes."""
+`transport_coefficients` (granboltz.reproduction.transport_table) and `shear_rheology`
+(granboltz.reproduction.rheology), whose verdicts those modules compute."""
 
 import math
 
-from ..transport_table import (RHEOLOGY_COMPONENTS, preference_text, read_rows, rheology_verdict, sonine_preference,
-                               transport_verdict)
+from ..reproduction.rheology import RHEOLOGY_COMPONENTS, rheology_verdict
+from ..reproduction.transport_table import preference_text, read_rows, sonine_preference, transport_verdict
 from .numbers import DASH, Verdict, marked, num, pm
 
 TRANSPORT = "Transport and rheology"

@@ -10,7 +10,7 @@ import pytest
 from scipy import stats
 
 import granboltz
-from granboltz import shear
+from granboltz.theory import shear
 
 C = 1 / (4 * math.pi)  # nu = 1 for Maxwell molecules in d = 3
 

@@ -10,8 +10,9 @@ import types
 import numpy as np
 import pytest
 
-from granboltz import transport, transport_table
-from granboltz.shear import hard_sphere_nu0
+from granboltz.reproduction import transport_table
+from granboltz.theory import transport
+from granboltz.theory.shear import hard_sphere_nu0
 from granboltz.theory.sonine import first_sonine_a2
 
 T_GRID = np.linspace(0, 3, 13)

@@ -7,7 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from granboltz import transport
+from granboltz.analysis import transport as measured
+from granboltz.theory import transport
 
 
 
@@ -137,7 +138,7 @@ def test_the_exact_hcs_a2_is_the_simulators(d):
 def test_the_exact_usf_viscosity_tends_to_the_chapman_enskog_eta():
     # Two derivations that share nothing but the collision map: the steady sheared state of the
     # thermostatted second-moment equation (granboltz.shear) at a -> 0, and Chapman-Enskog.
-    from granboltz import shear
+    from granboltz.theory import shear
 
     C = 0.0795774715459477
     for alpha in (0.5, 0.9):
@@ -159,14 +160,14 @@ def test_usf_under_the_gaussian_thermostat_extrapolates_to_the_exact_eta():
                                          "kernel": {"lambda": 0, "C": C}, "shear": {"rate": a}, "t_end": 40,
                                          "observe_every": 0.5, "steady_from": 10}}, progress=False)
             for a in (0.03, 0.06, 0.09)]
-    fit = transport.usf_viscosity(runs)
+    fit = measured.usf_viscosity(runs)
     exact = transport.maxwell_coefficients(0.7)["eta"]
     rates = transport.maxwell_rates(0.7)
     wrong = 1 / (rates["Pi"] - rates["zeta"] / 2)
     assert abs(fit["eta"] - exact) < fit["eta_ci"], fit
     assert abs(fit["eta"] - wrong) > fit["eta_ci"], (fit, wrong)
     with pytest.raises(ValueError, match="no dsmc.shear.rate"):
-        transport.usf_viscosity([granboltz.simulate({"model": "dsmc", "seed": 1, "ensembles": 2, "dsmc": {
+        measured.usf_viscosity([granboltz.simulate({"model": "dsmc", "seed": 1, "ensembles": 2, "dsmc": {
             "particles": 50, "alpha": 0.7, "thermostat": "gaussian", "kernel": {"lambda": 0, "C": C},
             "t_end": 1, "observe_every": 0.5, "steady_from": 0.5}}, progress=False)])
 
@@ -195,11 +196,11 @@ def test_a_correlation_integral_has_an_interval_that_covers():
         for j in range(1, len(lags)):
             noise[:, j] = 0.9 * noise[:, j - 1] + math.sqrt(1 - 0.81) * rng.standard_normal(N)
         rho = exact_curve + 0.05 * noise
-        value, ci = transport.correlation_integral(lags, rho.mean(0), np.cov(rho, rowvar=False), N, weight_rate=w)
+        value, ci = measured.correlation_integral(lags, rho.mean(0), np.cov(rho, rowvar=False), N, weight_rate=w)
         misses += abs(value - exact) > ci
         naive = 3.2 * math.sqrt(np.sum((c * np.exp(-w * lags)) ** 2 * rho.var(0, ddof=1)) / N)
         naive_misses += abs(value - exact) > naive
     assert misses <= 10, misses
     assert naive_misses > 100, naive_misses
     with pytest.raises(ValueError, match="increasing times starting at 0"):
-        transport.correlation_integral([0.1, 0.2], [1, 0.5], np.eye(2), 4)
+        measured.correlation_integral([0.1, 0.2], [1, 0.5], np.eye(2), 4)

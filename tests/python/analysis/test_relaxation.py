@@ -12,7 +12,8 @@ import pytest
 from scipy import stats
 
 import granboltz
-from granboltz import relaxation, transport
+from granboltz.analysis import relaxation
+from granboltz.theory import transport
 from granboltz.theory import LAMBDA_P
 
 C = 1 / (4 * math.pi)  # nu = 1

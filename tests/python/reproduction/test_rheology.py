@@ -9,7 +9,8 @@ import numpy as np
 import pytest
 
 import granboltz
-from granboltz import rheology, shear
+from granboltz.reproduction import rheology
+from granboltz.theory import shear
 
 
 def _run(lam, d=3, thermostat=None, rate=1.0, alpha=0.5, ensembles=16, particles=1000, t_end=30,
