@@ -88,12 +88,14 @@ def test_dry_run_plans_every_job(profile):
     # the HCS tail with weighted particles: one run per alpha
     assert counts.pop("beyond_swpm_run") == counts.pop("beyond_swpm_run_config") == len(b["hcs_tail_swpm"]["alphas"])
     # transport: relaxation (eta and kappa per lambda = 0 and hard-sphere alpha, eta per disk alpha),
-    # thermostatted shear flow (rates x alphas of each model) and free hard-sphere shear flow
+    # thermostatted shear flow (rates x alphas of each model), free hard-sphere shear flow and Green–Kubo
     t = config["transport"]
     rx, us = t["relaxation"], t["usf"]
     transport = 2 * len(rx["maxwell_alphas"]) + 2 * len(rx["alphas"]) + len(rx["disk_alphas"])
     transport += len(us["maxwell_reduced_rates"]) * len(us["maxwell_alphas"]) + len(us["reduced_rates"]) * len(
         us["alphas"]) + len(us["free_alphas"])
+    gk = t["green_kubo"]  # Green–Kubo: one thermostatted HCS run per alpha of each model and dimension
+    transport += sum(len(gk[k]) for k in ("maxwell_alphas", "maxwell_disk_alphas", "alphas", "disk_alphas"))
     assert counts.pop("transport_run") == counts.pop("transport_run_config") == transport
     # 11 tables and the window table; TV06 Figs. 3, 4, 7 and §4; Ex. 7 moments, amplitude, RW05
     # moments; 8 beyond (the HCS tail of weighted particles among them); 2 transport

@@ -155,7 +155,7 @@ localrules:
     beyond_run_config,
 
 
-rule beyond_run_config:
+use rule run_config as beyond_run_config with:
     output:
         yaml="results/beyond/{thermostat}/{kernel}/{restitution}/N={N}/n={n}/run.yaml",
     log:
@@ -166,11 +166,9 @@ rule beyond_run_config:
         restitution="(alpha|delta)=[0-9.]+",
     params:
         run=beyond_run_config,
-    script:
-        "../scripts/write_run_config.py"
 
 
-rule beyond_run:
+use rule run as beyond_run with:
     input:
         config=rules.beyond_run_config.output.yaml,
         granboltz=config["granboltz"],
@@ -184,11 +182,6 @@ rule beyond_run:
         thermostat="none|gaussian|white_noise",
         kernel=BEYOND_KERNELS,
         restitution="(alpha|delta)=[0-9.]+",
-    threads: run_threads
-    resources:
-        mem_mb=run_mem_mb,
-    shell:
-        "{input.granboltz} run {input.config} -o {output.h5} --threads {threads} > {log} 2>&1"
 
 
 HAFF, A2, TAIL, VISCO, DISKS = BEYOND["haff"], BEYOND["a2"], BEYOND["tail"], BEYOND["viscoelastic"], BEYOND["disks_a2"]
@@ -239,7 +232,7 @@ localrules:
     beyond_swpm_run_config,
 
 
-rule beyond_swpm_run_config:
+use rule run_config as beyond_swpm_run_config with:
     output:
         yaml="results/beyond_swpm/gaussian/hard_spheres/alpha={alpha}/N={N}/n={n}/run.yaml",
     log:
@@ -248,11 +241,9 @@ rule beyond_swpm_run_config:
         alpha="[0-9.]+",
     params:
         run=beyond_swpm_run_config,
-    script:
-        "../scripts/write_run_config.py"
 
 
-rule beyond_swpm_run:
+use rule run as beyond_swpm_run with:
     input:
         config=rules.beyond_swpm_run_config.output.yaml,
         granboltz=config["granboltz"],
@@ -264,11 +255,8 @@ rule beyond_swpm_run:
         "benchmarks/beyond_swpm/gaussian/hard_spheres/alpha={alpha}/N={N}/n={n}/run.tsv"
     wildcard_constraints:
         alpha="[0-9.]+",
-    threads: run_threads
     resources:
         mem_mb=swpm_mem_mb,
-    shell:
-        "{input.granboltz} run {input.config} -o {output.h5} --threads {threads} > {log} 2>&1"
 
 
 rule beyond_hcs_tail_swpm:

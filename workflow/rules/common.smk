@@ -96,6 +96,39 @@ def run_mem_mb(wildcards, threads):
     return config["run_mem_mb"] + math.ceil(extra / 1e6)
 
 
+# The run-config + run pair every rule file uses, through `use rule run_config as <paper>_run_config
+# with:` and `use rule run as <paper>_run with:` giving its paths, params and constraints. Its own
+# paths have no wildcards and no rule asks for them, so the pair itself never makes a job.
+localrules:
+    run_config,
+
+
+rule run_config:
+    output:
+        yaml="results/.template/run.yaml",
+    log:
+        "logs/.template/run_config.log",
+    script:
+        "../scripts/write_run_config.py"
+
+
+rule run:
+    input:
+        config=rules.run_config.output.yaml,
+        granboltz=config["granboltz"],
+    output:
+        h5="results/.template/run.h5",
+    log:
+        "logs/.template/run.log",
+    benchmark:
+        "benchmarks/.template/run.tsv"
+    threads: run_threads
+    resources:
+        mem_mb=run_mem_mb,
+    shell:
+        "{input.granboltz} run {input.config} -o {output.h5} --threads {threads} > {log} 2>&1"
+
+
 def dsmc_run_config(label, physics, N, n, t_end, observe_every, **dsmc):
     """The simulator's run config (a dict, written as YAML): physics (alpha, or restitution for
     another law; beta, gamma, kernel, temperature0, majorant_update) and timing, plus any further

@@ -51,18 +51,16 @@ localrules:
     grw05_run_config,
 
 
-rule grw05_run_config:
+use rule run_config as grw05_run_config with:
     output:
         yaml="results/grw05/{ex}/N={N}/n={n}/run.yaml",
     log:
         "logs/grw05/{ex}/N={N}/n={n}/run_config.log",
     params:
         run=grw05_run_config,
-    script:
-        "../scripts/write_run_config.py"
 
 
-rule grw05_run:
+use rule run as grw05_run with:
     input:
         config=rules.grw05_run_config.output.yaml,
         granboltz=config["granboltz"],
@@ -74,11 +72,6 @@ rule grw05_run:
         "benchmarks/grw05/{ex}/N={N}/n={n}/run.tsv"
     wildcard_constraints:
         ex=_one_of([k for k in GRW05_EXPERIMENTS if k not in GRW05_SHARDED]),
-    threads: run_threads
-    resources:
-        mem_mb=run_mem_mb,
-    shell:
-        "{input.granboltz} run {input.config} -o {output.h5} --threads {threads} > {log} 2>&1"
 
 
 # Sharded runs: one job per shard of ensembles (a cluster runs them side by side), then a merge

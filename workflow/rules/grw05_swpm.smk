@@ -61,7 +61,7 @@ localrules:
     grw05_swpm_run_config,
 
 
-rule grw05_swpm_run_config:
+use rule run_config as grw05_swpm_run_config with:
     output:
         yaml="results/grw05_swpm/{ex}/N={N}/n={n}/run.yaml",
     log:
@@ -70,11 +70,9 @@ rule grw05_swpm_run_config:
         ex=_one_of(SWPM_RUNS),
     params:
         run=grw05_swpm_run_config,
-    script:
-        "../scripts/write_run_config.py"
 
 
-rule grw05_swpm_run:
+use rule run as grw05_swpm_run with:
     input:
         config=rules.grw05_swpm_run_config.output.yaml,
         granboltz=config["granboltz"],
@@ -86,11 +84,8 @@ rule grw05_swpm_run:
         "benchmarks/grw05_swpm/{ex}/N={N}/n={n}/run.tsv"
     wildcard_constraints:
         ex=_one_of(SWPM_RUNS),
-    threads: run_threads
     resources:
         mem_mb=swpm_mem_mb,
-    shell:
-        "{input.granboltz} run {input.config} -o {output.h5} --threads {threads} > {log} 2>&1"
 
 
 # ln f against r for both methods and b(r) of both, one figure per example.

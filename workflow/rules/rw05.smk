@@ -42,18 +42,16 @@ localrules:
     rw05_run_config,
 
 
-rule rw05_run_config:
+use rule run_config as rw05_run_config with:
     output:
         yaml="results/rw05/{exp}/{scheme}/N={N}/n={n}/run.yaml",
     log:
         "logs/rw05/{exp}/{scheme}/N={N}/n={n}/run_config.log",
     params:
         run=rw05_run_config,
-    script:
-        "../scripts/write_run_config.py"
 
 
-rule rw05_run:
+use rule run as rw05_run with:
     input:
         config=rules.rw05_run_config.output.yaml,
         granboltz=config["granboltz"],
@@ -63,11 +61,6 @@ rule rw05_run:
         "logs/rw05/{exp}/{scheme}/N={N}/n={n}/run.log",
     benchmark:
         "benchmarks/rw05/{exp}/{scheme}/N={N}/n={n}/run.tsv"
-    threads: run_threads
-    resources:
-        mem_mb=run_mem_mb,
-    shell:
-        "{input.granboltz} run {input.config} -o {output.h5} --threads {threads} > {log} 2>&1"
 
 
 def _steady(scheme, K=None, exp="steady"):

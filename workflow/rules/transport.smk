@@ -108,7 +108,7 @@ localrules:
     transport_run_config,
 
 
-rule transport_run_config:
+use rule run_config as transport_run_config with:
     output:
         yaml="results/transport/{case}/{model}/d{d}/alpha={alpha}/N={N}/n={n}/run.yaml",
     log:
@@ -120,11 +120,9 @@ rule transport_run_config:
         alpha="[0-9.]+",
     params:
         run=transport_run_config,
-    script:
-        "../scripts/write_run_config.py"
 
 
-rule transport_run:
+use rule run as transport_run with:
     input:
         config=rules.transport_run_config.output.yaml,
         granboltz=config["granboltz"],
@@ -139,11 +137,6 @@ rule transport_run:
         model="maxwell|hard_spheres",
         d="2|3",
         alpha="[0-9.]+",
-    threads: run_threads
-    resources:
-        mem_mb=run_mem_mb,
-    shell:
-        "{input.granboltz} run {input.config} -o {output.h5} --threads {threads} > {log} 2>&1"
 
 
 TR_RELAX_RUNS = (

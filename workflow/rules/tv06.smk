@@ -84,7 +84,7 @@ localrules:
     tv06_run_config,
 
 
-rule tv06_run_config:
+use rule run_config as tv06_run_config with:
     output:
         yaml="results/tv06/{experiment}/M={M}/alpha={alpha}/N={N}/collisions={collisions}/run.yaml",
     log:
@@ -93,11 +93,9 @@ rule tv06_run_config:
         run=tv06_run_config,
     wildcard_constraints:
         **TV06_WILDCARDS,
-    script:
-        "../scripts/write_run_config.py"
 
 
-rule tv06_run:
+use rule run as tv06_run with:
     input:
         config=rules.tv06_run_config.output.yaml,
         granboltz=config["granboltz"],
@@ -109,11 +107,8 @@ rule tv06_run:
         "benchmarks/tv06/{experiment}/M={M}/alpha={alpha}/N={N}/collisions={collisions}/run.tsv"
     wildcard_constraints:
         **TV06_WILDCARDS,
-    threads: run_threads
     resources:
         mem_mb=config["run_mem_mb"],
-    shell:
-        "{input.granboltz} run {input.config} -o {output.h5} --threads {threads} > {log} 2>&1"
 
 
 def tv06_outputs(name, csv=True):
