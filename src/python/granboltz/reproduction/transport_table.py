@@ -1,39 +1,25 @@
 """The `transport_coefficients` table and its verdict: measured Navier–Stokes coefficients (eta*,
-kappa*, mu*, reduced as in granboltz.transport) beside the exact lambda = 0 values and both first
-Sonine approximations of hard spheres.
+kappa*, mu*, D*, reduced as in granboltz.theory.transport) beside the exact lambda = 0 values and
+both first Sonine approximations of hard spheres.
 
-The table is built from rows that each *method* yields; a method is one function
-`rows(runs, **params) -> [row]` registered in METHODS, so another method (a Green–Kubo
-integral of the simulator's time correlations) is added by writing its function and listing it.
-A row carries model, d, alpha, coefficient, method, value, ci (at lambda_p); `complete_rows`
-fills the theory columns, `transport_verdict` judges them:
+Each *method* is one function `rows(runs, **params) -> [row]` registered in METHODS; a row
+carries model, d, alpha, coefficient, method, value, ci (at lambda_p); `complete_rows` fills the
+theory columns and `transport_verdict` judges them: a lambda = 0 row further than its interval
+from the exact value is a failure (✗), the only one this table can show; a hard-sphere row
+favours the closer Sonine version by so many sigma (sigma = ci/lambda_p), is "not resolved"
+where the versions part by less than its interval, and "neither within" outside both.
 
-- model "maxwell" (lambda = 0, geometry uniform): value against the exact value; a row further
-  than its interval from it is a failure (✗), the only one this table can show;
-- model "hard_spheres": value against the standard and the modified first Sonine values, both
-  approximations; the verdict says which one the data favour and by how many sigma
-  (sigma = ci/lambda_p), and where the two are closer than the interval (not resolved).
-
-Methods here (granboltz.relaxation, granboltz.transport):
-- "relaxation": eta from a prepared shear stress, kappa and mu from a prepared heat flux, each
-  under the Gaussian thermostat. The heat-flux decay rate r_Q = nu_Q - 3 zeta/2 gives
-  kappa = (d+2) T (1 + 2 a2)/(2 m (r_Q - zeta/2)) (relaxation.conductivity_from_relaxation) and
-  mu = (zeta T kappa/n + (d+2) a2 T^2/(2m))/(r_Q + (1/2 - q) zeta) (Chapman–Enskog: mu ~ T^(q+1),
-  the gradient of n does not evolve at Euler order): the same decay, not an independent
-  measurement of the response to a density gradient. Exact for lambda = 0; for hard spheres the
-  moment closure of the Sonine theories, with the HCS a2 and zeta of the first Sonine
-  approximation (van Noije–Ernst; common to both versions, so they do not move the data
-  towards one of them).
-- "usf": eta from steady uniform shear flow under the Gaussian thermostat extrapolated to a -> 0
-  (transport.usf_viscosity). The thermostat's viscosity p/(nu_Pi - zeta) is turned into the
-  Navier–Stokes p/(nu_Pi - q zeta) with the same zeta (nothing to do for lambda = 0).
-- "green_kubo": eta and D from the time correlations of the thermostatted HCS
-  (transport.green_kubo_coefficient: the normalised autocorrelation of the shear stress or of a
-  tagged velocity, integrated with the weight of a coefficient scaling as T^q, times the
-  equal-time value of the Chapman–Enskog source term: n T for eta, T/m for D, (d+2) n T (1 + 2 a2)/2m
-  for kappa and mu, d = 3). Exact for lambda = 0; for hard spheres the autocorrelation stands in
-  for the correlation with the HCS's conjugate function (equal for lambda = 0), and kappa, mu
-  take the first Sonine a2 and zeta as the relaxation rows do.
+Methods (granboltz.analysis.relaxation, granboltz.analysis.transport), all under the Gaussian
+thermostat, with the HCS a2 and zeta of the first Sonine approximation for hard spheres
+(van Noije–Ernst; common to both versions, so they move the data towards neither):
+- "relaxation": eta from a prepared shear stress; kappa and mu from the decay rate r_Q of a
+  prepared heat flux (mu from the same decay through Chapman–Enskog, not from a density
+  gradient). Exact for lambda = 0, the moment closure of the Sonine theories for hard spheres.
+- "usf": eta from steady shear flow extrapolated to a -> 0; the thermostat's p/(nu_Pi - zeta)
+  turned into the Navier–Stokes p/(nu_Pi - q zeta).
+- "green_kubo": eta, D (and kappa, mu in d = 3) from the time correlations of the HCS
+  (green_kubo_coefficient). Exact for lambda = 0; for hard spheres the autocorrelation stands in
+  for the correlation with the HCS's conjugate function.
 """
 
 import math
