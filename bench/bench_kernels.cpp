@@ -3,9 +3,9 @@
 
 #include <vector>
 
-#include "granboltz/random/index_stream.hpp"
 #include "granboltz/physics/collision.hpp"
 #include "granboltz/physics/heating.hpp"
+#include "granboltz/random/index_stream.hpp"
 #include "granboltz/random/rng.hpp"
 #include "granboltz/random/samplers.hpp"
 

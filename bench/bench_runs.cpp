@@ -41,8 +41,13 @@ std::vector<std::string> with(std::vector<std::string> base, std::vector<std::st
   return base;
 }
 std::vector<std::string> peer(const char* n, const char* t_end, const char* majorant) {
-  return {"dsmc.alpha=1", "dsmc.beta=0", "dsmc.kernel.lambda=1", "dsmc.kernel.C=0.0795774715459477",
-          std::string("dsmc.particles=") + n, std::string("dsmc.t_end=") + t_end, "ensembles=1",
+  return {"dsmc.alpha=1",
+          "dsmc.beta=0",
+          "dsmc.kernel.lambda=1",
+          "dsmc.kernel.C=0.0795774715459477",
+          std::string("dsmc.particles=") + n,
+          std::string("dsmc.t_end=") + t_end,
+          "ensembles=1",
           std::string("dsmc.majorant=") + majorant};
 }
 
@@ -53,22 +58,25 @@ const std::vector<Case> kCases = {
      with(kRw05, {"dsmc.particles=4096", "ensembles=8", "dsmc.scheme=euler", "dsmc.steps=32"})},
     {"strang_K32_n4096", "RW05 Strang splitting, K=32, n=4096, 8 ensembles",
      with(kRw05, {"dsmc.particles=4096", "ensembles=8", "dsmc.scheme=strang", "dsmc.steps=32"})},
-    {"hs_nosplit_n65536", "GRW05 Ex. 5 hard spheres, n=65536, t in [0,0.5]",
+    {"hs_nosplit_n65536",
+     "GRW05 Ex. 5 hard spheres, n=65536, t in [0,0.5]",
      {"dsmc.alpha=0.5", "dsmc.beta=0.125", "dsmc.gamma=4", "dsmc.kernel.lambda=1",
-      "dsmc.kernel.C=0.0795774715459477", "dsmc.particles=65536", "dsmc.t_end=0.5",
-      "ensembles=1"}},
-    {"hs_nosplit_n1e7", "GRW05 Ex. 8 hard spheres, n=10^7, t in [0,0.02]",
+      "dsmc.kernel.C=0.0795774715459477", "dsmc.particles=65536", "dsmc.t_end=0.5", "ensembles=1"}},
+    {"hs_nosplit_n1e7",
+     "GRW05 Ex. 8 hard spheres, n=10^7, t in [0,0.02]",
      {"dsmc.alpha=0.1", "dsmc.beta=30", "dsmc.gamma=16", "dsmc.kernel.lambda=1",
-      "dsmc.kernel.C=0.0795774715459477", "dsmc.particles=1e7", "dsmc.t_end=0.02",
-      "ensembles=1"}},
-    {"tv06_intruder_gillespie", "TV06 intruder, Gaussian bath, M=1, alpha=0.5, 2*10^6 collisions",
+      "dsmc.kernel.C=0.0795774715459477", "dsmc.particles=1e7", "dsmc.t_end=0.02", "ensembles=1"}},
+    {"tv06_intruder_gillespie",
+     "TV06 intruder, Gaussian bath, M=1, alpha=0.5, 2*10^6 collisions",
      {"model=intruder", "intruder.bath.kind=gaussian", "intruder.bath.a=1", "intruder.mass=1",
       "intruder.alpha=0.5", "intruder.collisions=2e6", "intruder.warmup=0", "ensembles=1"}},
-    {"tv06_intruder_dsmc", "TV06 intruder by DSMC, same, 5*10^5 collisions",
+    {"tv06_intruder_dsmc",
+     "TV06 intruder by DSMC, same, 5*10^5 collisions",
      {"model=intruder", "intruder.bath.kind=gaussian", "intruder.bath.a=1", "intruder.mass=1",
-      "intruder.alpha=0.5", "intruder.collisions=5e5", "intruder.warmup=0",
-      "intruder.method=dsmc", "ensembles=1"}},
-    {"tv06_needle", "TV06 needle, M=0.1, alpha=0.1, 2*10^5 collisions",
+      "intruder.alpha=0.5", "intruder.collisions=5e5", "intruder.warmup=0", "intruder.method=dsmc",
+      "ensembles=1"}},
+    {"tv06_needle",
+     "TV06 needle, M=0.1, alpha=0.1, 2*10^5 collisions",
      {"model=needle", "needle.mass=0.1", "needle.alpha=0.1", "needle.collisions=2e5",
       "needle.warmup=0", "ensembles=1"}},
     {"peer_elastic_hs_n1e4", "elastic hard spheres (alpha=1, beta=0, lambda=1), n=10^4, global",
@@ -216,15 +224,17 @@ void print_peer_table(const std::map<std::string, double>& ns_real, const std::s
     while (in >> n >> comma >> ns) sparta[n] = ns;
     source = sparta_csv;
   }
-  std::printf("\npeer problem (elastic hard spheres, one cell; ns per real collision; SPARTA: %s)\n",
-              source.c_str());
+  std::printf(
+      "\npeer problem (elastic hard spheres, one cell; ns per real collision; SPARTA: %s)\n",
+      source.c_str());
   std::printf("%-8s %9s %9s %-9s %9s %9s %6s %s\n", "n", "global", "pairwise", "auto", "auto ns",
               "SPARTA", "ratio", "goal <= 0.20");
   for (const auto& row : kPeerRows) {
     if (!ns_real.count(row.global) || !ns_real.count(row.pairwise)) continue;
-    Config cfg = parse_config("{}", "peer", {"model=dsmc", "seed=1", "dsmc.alpha=1", "dsmc.beta=0",
-                                              "dsmc.kernel.lambda=1", "dsmc.kernel.C=0.08", "dsmc.t_end=1",
-                                              "dsmc.particles=" + format_real(row.n)});
+    Config cfg = parse_config(
+        "{}", "peer",
+        {"model=dsmc", "seed=1", "dsmc.alpha=1", "dsmc.beta=0", "dsmc.kernel.lambda=1",
+         "dsmc.kernel.C=0.08", "dsmc.t_end=1", "dsmc.particles=" + format_real(row.n)});
     const bool pairwise = cfg.dsmc.majorant == MajorantKind::kPairwise;
     const double chosen = ns_real.at(pairwise ? row.pairwise : row.global);
     const double ratio = chosen / sparta[row.n];
@@ -232,8 +242,8 @@ void print_peer_table(const std::map<std::string, double>& ns_real, const std::s
                 ns_real.at(row.pairwise), pairwise ? "pairwise" : "global", chosen, sparta[row.n],
                 ratio, ratio <= kPeerGoal ? "met" : "not met");
     csv << "peer_auto_n" << format_real(row.n) << ",\"auto: " << (pairwise ? "pairwise" : "global")
-        << "; SPARTA " << sparta[row.n] << " ns (" << source << ")\",,,,,,,,,," << chosen
-        << ",," << ratio << ",\n";
+        << "; SPARTA " << sparta[row.n] << " ns (" << source << ")\",,,,,,,,,," << chosen << ",,"
+        << ratio << ",\n";
   }
 }
 
@@ -241,12 +251,18 @@ int main(int argc, char** argv) {
   int repeat = 5;
   std::string csv_path = "bench/results.csv", only, sparta_csv;
   for (int i = 1; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--repeat") && i + 1 < argc) repeat = std::atoi(argv[++i]);
-    else if (!std::strcmp(argv[i], "--csv") && i + 1 < argc) csv_path = argv[++i];
-    else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
-    else if (!std::strcmp(argv[i], "--sparta") && i + 1 < argc) sparta_csv = argv[++i];
+    if (!std::strcmp(argv[i], "--repeat") && i + 1 < argc)
+      repeat = std::atoi(argv[++i]);
+    else if (!std::strcmp(argv[i], "--csv") && i + 1 < argc)
+      csv_path = argv[++i];
+    else if (!std::strcmp(argv[i], "--only") && i + 1 < argc)
+      only = argv[++i];
+    else if (!std::strcmp(argv[i], "--sparta") && i + 1 < argc)
+      sparta_csv = argv[++i];
     else {
-      std::fprintf(stderr, "usage: granboltz_bench [--repeat R] [--csv FILE] [--only NAME] [--sparta FILE]\n");
+      std::fprintf(
+          stderr,
+          "usage: granboltz_bench [--repeat R] [--csv FILE] [--only NAME] [--sparta FILE]\n");
       return 2;
     }
   }
@@ -288,8 +304,8 @@ int main(int argc, char** argv) {
     }
     std::printf("threads: 64 ensembles of %s: 1 thread %.3f s, 2 threads %.3f s, speed-up %.2f\n",
                 kCases[0].name, median(one), median(two), median(one) / median(two));
-    csv << "speedup_1_to_2_threads,\"" << kCases[0].description << "\"," << repeat
-        << ",,,,," << median(two) << ",,,,,," << median(one) / median(two) << "\n";
+    csv << "speedup_1_to_2_threads,\"" << kCases[0].description << "\"," << repeat << ",,,,,"
+        << median(two) << ",,,,,," << median(one) / median(two) << "\n";
   }
   std::printf("CSV: %s\n", csv_path.c_str());
   return 0;

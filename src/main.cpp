@@ -1,25 +1,25 @@
 // granboltz: command line. Parses arguments, loads the config, dispatches; nothing else.
-#include <CLI/CLI.hpp>
+#include <unistd.h>
 
+#include <CLI/CLI.hpp>
 #include <chrono>
 #include <cmath>
 #include <csignal>
-#include <cstdlib>
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 #include <new>
 #include <stdexcept>
-#include <unistd.h>
 
 #include "granboltz/app/config.hpp"
-#include "granboltz/h5/hdf5_io.hpp"
-#include "granboltz/app/merge.hpp"
-#include "granboltz/h5/verify.hpp"
 #include "granboltz/app/estimate.hpp"
+#include "granboltz/app/merge.hpp"
 #include "granboltz/app/run.hpp"
 #include "granboltz/app/summary.hpp"
 #include "granboltz/core/gsl_errors.hpp"
 #include "granboltz/core/version.hpp"
+#include "granboltz/h5/hdf5_io.hpp"
+#include "granboltz/h5/verify.hpp"
 
 namespace {
 
@@ -46,8 +46,9 @@ std::string joined(int argc, char** argv) {
 
 int main(int argc, char** argv) {
   granboltz::install_gsl_error_handler();  // GSL errors become statuses, never abort()
-  CLI::App app{"granboltz: DSMC and event-driven simulation of the heated inelastic Boltzmann "
-               "equation (GRW05, RW05, TV06)"};
+  CLI::App app{
+      "granboltz: DSMC and event-driven simulation of the heated inelastic Boltzmann "
+      "equation (GRW05, RW05, TV06)"};
   app.set_version_flag("--version", std::string("granboltz ") + granboltz::kVersion + " (" +
                                         granboltz::kGitSha + ")");
   app.require_subcommand(1);
@@ -117,8 +118,8 @@ int main(int argc, char** argv) {
     }
   } else {
     const std::string command = argv[1];
-    if (command != "run" && command != "estimate" && command != "validate" &&
-        command != "merge" && command != "verify") {
+    if (command != "run" && command != "estimate" && command != "validate" && command != "merge" &&
+        command != "verify") {
       std::fprintf(stderr,
                    "granboltz: error: %s: unknown command; expected run, estimate, validate, "
                    "merge or verify (see granboltz --help)\n",
@@ -205,12 +206,14 @@ int main(int argc, char** argv) {
   } catch (const std::bad_alloc&) {
     // The memory check before a run counts what it will allocate; this is what it missed (or
     // memory taken by others meanwhile), said in one line rather than by the library's name.
-    std::fprintf(stderr, "granboltz: error: out of memory: an allocation failed; reduce "
-                         "particles, threads, histogram shells or observation times\n");
+    std::fprintf(stderr,
+                 "granboltz: error: out of memory: an allocation failed; reduce "
+                 "particles, threads, histogram shells or observation times\n");
     return 1;
   } catch (const std::length_error&) {
-    std::fprintf(stderr, "granboltz: error: out of memory: a size beyond what can be allocated; "
-                         "reduce particles, histogram shells or observation times\n");
+    std::fprintf(stderr,
+                 "granboltz: error: out of memory: a size beyond what can be allocated; "
+                 "reduce particles, histogram shells or observation times\n");
     return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "granboltz: error: %s\n", one_line(e.what()).c_str());

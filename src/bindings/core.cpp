@@ -240,8 +240,9 @@ inline std::string shape_text(const py::array& a) {
 
 /// The rows of an (n, cols) array (cols 1: the z component of a disk's spin) as vectors, every
 /// entry finite and at most 1e150 in magnitude (its square must not overflow an energy sum).
-inline std::vector<Vec3> state_rows(const py::array_t<double, py::array::c_style | py::array::forcecast>& a,
-                                    std::size_t n, int cols, const char* call, const char* what) {
+inline std::vector<Vec3> state_rows(
+    const py::array_t<double, py::array::c_style | py::array::forcecast>& a, std::size_t n,
+    int cols, const char* call, const char* what) {
   const double* x = a.data();
   std::vector<Vec3> rows(n);
   for (std::size_t i = 0; i < n; ++i) {
@@ -283,22 +284,26 @@ class Simulation {
       // check_file compares the digest too; named problems (the engine's checks below) are
       // more useful than "does not match", so that one is reported last.
       const bool digest_only =
-          check.problems.size() == 1 && check.problems[0].find("do not match its digest") != std::string::npos;
+          check.problems.size() == 1 &&
+          check.problems[0].find("do not match its digest") != std::string::npos;
       if (!check.problems.empty() && !digest_only)
         throw StateError(path + ": " + check.problems.front());
       H5Reader in(path);
       if (!in.has_attr("/", "kind") || in.attr_string("/", "kind") != "simulation")
-        throw StateError(path + ": not a state written by granboltz.Simulation.save (no attribute "
-                                "kind = simulation)");
+        throw StateError(path +
+                         ": not a state written by granboltz.Simulation.save (no attribute "
+                         "kind = simulation)");
       if (!in.has_attr("/", "digest"))
-        throw StateError(path + ": a state without its digest attribute (saved by an older "
-                                "granboltz): it cannot be checked, so it is refused");
+        throw StateError(path +
+                         ": a state without its digest attribute (saved by an older "
+                         "granboltz): it cannot be checked, so it is refused");
       for (const char* name : {"config", "config_hash", "ensemble"})
         if (!in.has_attr("/", name)) throw StateError(path + ": attribute " + name + ": missing");
       const std::string text = in.attr_string("/", "config");
       if (in.attr_uint64("/", "config_hash") != text_hash(text))
-        throw StateError(path + ": attribute config: does not match its config_hash (edited or "
-                                "damaged)");
+        throw StateError(path +
+                         ": attribute config: does not match its config_hash (edited or "
+                         "damaged)");
       auto s = std::unique_ptr<Simulation>(new Simulation());
       try {
         s->config_ = std::make_unique<Config>(parse_config(text, path));
@@ -311,8 +316,9 @@ class Simulation {
       const DsmcConfig& d = s->config_->dsmc;
       s->engine_ = restore_ensemble(d, in, "/state");
       if (digest_only || in.attr_uint64("/", "digest") != in.digest())
-        throw StateError(path + ": the datasets do not match the digest it was saved with "
-                                "(edited or damaged)");
+        throw StateError(path +
+                         ": the datasets do not match the digest it was saved with "
+                         "(edited or damaged)");
       return s;
     } catch (const StateError&) {
       throw;
@@ -349,9 +355,9 @@ class Simulation {
     // Not beyond t_end: the engines' states hold t <= t_end (a saved one beyond would not
     // restore), and an advance to 1e308 would never end.
     if (!std::isfinite(t) || t < now || t > d.t_end)
-      throw py::value_error("advance(" + format(t) + "): t must be finite, >= time = " +
-                            format(now) + " and <= t_end = " + format(d.t_end) +
-                            " (the config's dsmc.t_end)");
+      throw py::value_error("advance(" + format(t) +
+                            "): t must be finite, >= time = " + format(now) +
+                            " and <= t_end = " + format(d.t_end) + " (the config's dsmc.t_end)");
     if (d.scheme != Scheme::kNoSplit) {
       const double k = t / d.time_step();
       if (std::fabs(k - std::round(k)) > 1e-9 * std::max(1.0, std::fabs(k)))
@@ -425,9 +431,9 @@ class Simulation {
       throw py::value_error("set_spins: only rough particles (dsmc.roughness) have spins");
     const std::size_t n = particles().size();
     const int d = dimension();
-    const bool ok = d == 3 ? w.ndim() == 2 && static_cast<std::size_t>(w.shape(0)) == n &&
-                                 w.shape(1) == 3
-                           : w.ndim() == 1 && static_cast<std::size_t>(w.shape(0)) == n;
+    const bool ok =
+        d == 3 ? w.ndim() == 2 && static_cast<std::size_t>(w.shape(0)) == n && w.shape(1) == 3
+               : w.ndim() == 1 && static_cast<std::size_t>(w.shape(0)) == n;
     if (!ok)
       throw py::value_error("set_spins: spins has shape " + shape_text(w) + ", not " +
                             (d == 3 ? "(" + std::to_string(n) + ", 3)"
@@ -527,9 +533,7 @@ class Simulation {
   };
   mutable std::atomic<const char*> user_{nullptr};
 
-  double now() const {
-    return engine_->time();
-  }
+  double now() const { return engine_->time(); }
 
   void check_model() const {
     if (config_->model != Model::kDsmc)
@@ -538,9 +542,10 @@ class Simulation {
                             "needle configs with granboltz.simulate");
     // A Simulation stops where its caller says: it takes no samples between the stops.
     if (config_->dsmc.correlations.any())
-      throw ConfigError("dsmc.correlations: sampled by granboltz.simulate and `granboltz run`, "
-                        "not by granboltz.Simulation (whose caller chooses its stops); remove the "
-                        "key, or record the signals from Simulation.velocities at your own stops");
+      throw ConfigError(
+          "dsmc.correlations: sampled by granboltz.simulate and `granboltz run`, "
+          "not by granboltz.Simulation (whose caller chooses its stops); remove the "
+          "key, or record the signals from Simulation.velocities at your own stops");
     if (ensemble_ >= config_->ensembles)
       throw py::value_error("granboltz.Simulation: ensemble " + std::to_string(ensemble_) +
                             " is not one of the config's ensembles 0.." +
@@ -619,8 +624,7 @@ PYBIND11_MODULE(_core, m) {
         py::arg("threads"), py::arg("progress"), py::arg("command"));
   m.def("end_by_sigterm", &end_by_sigterm,
         "Ends the process with SIGTERM under its default disposition (after run_file said so)");
-  py::class_<Simulation>(m, "Simulation",
-                         "One DSMC ensemble's engine (use granboltz.Simulation)")
+  py::class_<Simulation>(m, "Simulation", "One DSMC ensemble's engine (use granboltz.Simulation)")
       .def(py::init<const std::string&, const std::string&, std::uint64_t>(), py::arg("text"),
            py::arg("origin"), py::arg("ensemble"))
       .def_static("restore", &Simulation::restore, py::arg("path"))

@@ -167,7 +167,8 @@ TEST(CommandLine, MissingConfigAndUnwritableOutputAreReported) {
   EXPECT_NE(r.output.find("cannot open config file"), std::string::npos) << r.output;
   r = run_granboltz("run " + dir.write("c.yaml", kHardSpheres) + " -o /nonexistent/dir/o.h5");
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.output.find("/nonexistent/dir/o.h5: directory /nonexistent/dir does not exist"), std::string::npos)
+  EXPECT_NE(r.output.find("/nonexistent/dir/o.h5: directory /nonexistent/dir does not exist"),
+            std::string::npos)
       << r.output;
   r = run_granboltz("run " + dir.write("bad.yaml", "model: dsmc\nseed: [1\n") + " -o " +
                     dir.file("o.h5"));

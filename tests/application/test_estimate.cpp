@@ -139,13 +139,13 @@ TEST(Estimate, SplittingWithManyStepsAndTheGaussianThermostatMatchCounted) {
   // Many steps: n kicks per step, and U_max sees them all.
   expect_estimate_matches(kHardSpheres, {"dsmc.scheme=euler", "dsmc.steps=4000"});
   expect_estimate_matches(kHardSpheres, {"dsmc.scheme=strang", "dsmc.steps=2000"});
-  expect_estimate_matches(kHardSpheres, {"dsmc.scheme=euler", "dsmc.steps=2000",
-                                         "dsmc.majorant=pairwise"});
+  expect_estimate_matches(kHardSpheres,
+                          {"dsmc.scheme=euler", "dsmc.steps=2000", "dsmc.majorant=pairwise"});
   // The Gaussian thermostat holds T at T0: hard spheres collide at the rate of T0 all along (an
   // estimate that let T cool as if unheated was 3.4 times low).
   expect_estimate_matches(kHardSpheres, {"dsmc.thermostat=gaussian", "dsmc.beta=0"});
-  expect_estimate_matches(kHardSpheres, {"dsmc.thermostat=gaussian", "dsmc.beta=0",
-                                         "dsmc.majorant=pairwise"});
+  expect_estimate_matches(kHardSpheres,
+                          {"dsmc.thermostat=gaussian", "dsmc.beta=0", "dsmc.majorant=pairwise"});
   expect_estimate_matches(kHardSpheres, {"dsmc.thermostat=gaussian", "dsmc.beta=0",
                                          "dsmc.scheme=strang", "dsmc.steps=64"});
   // Free cooling (Haff's law): the majorant stays, the real collisions slow down.
@@ -159,10 +159,11 @@ TEST(Estimate, WeightedParticleEventsFromThePilotMatchCounted) {
   // temperature's rise (the real-collision rate grows as sqrt(T)) and of the majorant's growth as
   // the tail fills, so it underestimates; the promise for lambda > 0 is a factor 1.5
   // (docs/output.md; here 0.71, on the papers' weighted runs 0.8-1.1 in time).
-  expect_estimate_matches(kWeighted, {"dsmc.kernel.lambda=1", "dsmc.t_end=0.5", "dsmc.observe_every=0.05",
-                                      "dsmc.weights.kappa=1", "dsmc.weights.split.radius=7.5",
-                                      "dsmc.weights.split.rate=0.49", "dsmc.weights.split.power=1.5",
-                                      "dsmc.weights.split.interval=0.01", "dsmc.weights.split.max_radius=34"},
+  expect_estimate_matches(kWeighted,
+                          {"dsmc.kernel.lambda=1", "dsmc.t_end=0.5", "dsmc.observe_every=0.05",
+                           "dsmc.weights.kappa=1", "dsmc.weights.split.radius=7.5",
+                           "dsmc.weights.split.rate=0.49", "dsmc.weights.split.power=1.5",
+                           "dsmc.weights.split.interval=0.01", "dsmc.weights.split.max_radius=34"},
                           0.5);
 }
 
@@ -226,16 +227,20 @@ const std::string kTiny = granboltz::test::base_config("dsmc");
 TEST(Estimate, TakesUnderASecondWhateverTheLengthOfTheRun) {
   // The estimate used to step the temperature ODE with h <= t_end/2000 and 0.02/relaxation:
   // t_end = 1e8 took over 30 s, gamma = 1e12 did not end.
-  for (const char* lambda : {"dsmc.kernel.lambda=0", "dsmc.kernel.lambda=1", "dsmc.kernel.lambda=0.5"}) {
+  for (const char* lambda :
+       {"dsmc.kernel.lambda=0", "dsmc.kernel.lambda=1", "dsmc.kernel.lambda=0.5"}) {
     EXPECT_LT(estimate_seconds(kTiny, {lambda, "dsmc.t_end=1e8", "dsmc.observe_every=1e8"}), 2.0);
     EXPECT_LT(estimate_seconds(kTiny, {lambda, "dsmc.gamma=1e12"}), 2.0);
-    EXPECT_LT(estimate_seconds(kTiny, {lambda, "dsmc.beta=0", "dsmc.t_end=1e15",
-                                       "dsmc.observe_every=1e15"}), 2.0);
+    EXPECT_LT(estimate_seconds(
+                  kTiny, {lambda, "dsmc.beta=0", "dsmc.t_end=1e15", "dsmc.observe_every=1e15"}),
+              2.0);
     EXPECT_LT(estimate_seconds(kTiny, {lambda, "dsmc.thermostat=gaussian", "dsmc.beta=0",
-                                       "dsmc.t_end=1e15", "dsmc.observe_every=1e15"}), 2.0);
+                                       "dsmc.t_end=1e15", "dsmc.observe_every=1e15"}),
+              2.0);
   }
-  EXPECT_LT(estimate_seconds(kTiny, {"dsmc.kernel.lambda=1", "dsmc.scheme=euler",
-                                     "dsmc.steps=1e15", "dsmc.majorant=pairwise"}), 2.0);
+  EXPECT_LT(estimate_seconds(kTiny, {"dsmc.kernel.lambda=1", "dsmc.scheme=euler", "dsmc.steps=1e15",
+                                     "dsmc.majorant=pairwise"}),
+            2.0);
   // TV06: the most collisions a config takes (2^53), and the DSMC intruder's record quantiles.
   EXPECT_LT(estimate_seconds(kIntruder, {"intruder.collisions=9e15", "intruder.method=dsmc"}), 2.0);
   EXPECT_LT(estimate_seconds(kNeedle, {"needle.collisions=9e15"}), 2.0);
@@ -257,10 +262,10 @@ TEST(Estimate, MaxHoursRefusesWhatTheEngineWouldTakeDaysFor) {
           "the run would take longer");
   // 2^63 samples and more: the sample clock's arithmetic overflows and the run never ends.
   const std::string icfg = dir.write("i.yaml", kIntruder), ncfg = dir.write("n.yaml", kNeedle);
-  for (const auto& [c, key] : {std::pair{icfg, "intruder.sample_every"},
-                               std::pair{ncfg, "needle.sample_every"}}) {
-    const auto r = run_granboltz("run " + c + " --set " + key + "=1e-20 --max-hours 0.01 -q -o " +
-                                 out);
+  for (const auto& [c, key] :
+       {std::pair{icfg, "intruder.sample_every"}, std::pair{ncfg, "needle.sample_every"}}) {
+    const auto r =
+        run_granboltz("run " + c + " --set " + key + "=1e-20 --max-hours 0.01 -q -o " + out);
     EXPECT_EQ(r.exit_code, 2) << r.output;
     EXPECT_EQ(r.output.rfind(std::string("granboltz: error: ") + key + " = 1e-20: ", 0), 0u)
         << r.output;
@@ -332,21 +337,27 @@ TEST(Estimate, GeneralGasEventsFollowTheSpeciesAndTheSpins) {
   expect_estimate_matches(kMixture, {"dsmc.scheme=strang", "dsmc.steps=64"}, 0.15);
   expect_estimate_matches(kMixture, {"dsmc.dimension=2", "dsmc.kernel.lambda=0.5"}, 0.15);
   // Masses far apart: the heavy species heats as m beta under white noise.
-  expect_estimate_matches(kMixture, {"dsmc.species=[{name: a, fraction: 0.5}, {name: b, "
-                                     "fraction: 0.5, mass: 1e6}]", "dsmc.alpha=0.9",
-                                     "dsmc.t_end=100", "dsmc.observe_every=100"}, 0.15);
+  expect_estimate_matches(kMixture,
+                          {"dsmc.species=[{name: a, fraction: 0.5}, {name: b, "
+                           "fraction: 0.5, mass: 1e6}]",
+                           "dsmc.alpha=0.9", "dsmc.t_end=100", "dsmc.observe_every=100"},
+                          0.15);
   // Many observations: the bounds are reset at each (followed on average, not one by one).
   expect_estimate_matches(kMixture, {"dsmc.t_end=1.2", "dsmc.observe_every=0.001"}, 0.15);
   expect_estimate_matches(kRough, {}, 0.15);
   expect_estimate_matches(kRough, {"dsmc.initial.rotational_temperature=0"}, 0.15);
   // The spins' energy flows into translation: T rises from 1 towards 10^5 within a few
   // collisions, and the bounds hold the peak until the next observation.
-  expect_estimate_matches(kRough, {"dsmc.thermostat=none", "dsmc.beta=0",
-                                   "dsmc.initial.rotational_temperature=1e6"}, 0.15);
-  expect_estimate_matches(kRough, {"dsmc.thermostat=gaussian", "dsmc.beta=0",
-                                   "dsmc.initial.rotational_temperature=10"}, 0.15);
-  expect_estimate_matches(kRough, {"dsmc.dimension=2", "dsmc.roughness.inertia=0.5",
-                                   "dsmc.restitution={law: viscoelastic, delta: 0.2}"}, 0.15);
+  expect_estimate_matches(
+      kRough, {"dsmc.thermostat=none", "dsmc.beta=0", "dsmc.initial.rotational_temperature=1e6"},
+      0.15);
+  expect_estimate_matches(
+      kRough, {"dsmc.thermostat=gaussian", "dsmc.beta=0", "dsmc.initial.rotational_temperature=10"},
+      0.15);
+  expect_estimate_matches(kRough,
+                          {"dsmc.dimension=2", "dsmc.roughness.inertia=0.5",
+                           "dsmc.restitution={law: viscoelastic, delta: 0.2}"},
+                          0.15);
 }
 
 namespace {
@@ -366,14 +377,15 @@ TEST(Estimate, LogAndListedObservationTimesAreCounted) {
   // grow between two by e^(lambda zeta gap/2), so the gaps of the grid, not their mean, set the
   // fictitious candidates (one by one up to 1000 resets, by the gap around each time beyond).
   const std::string gauss[] = {"dsmc.thermostat=gaussian", "dsmc.beta=0"};
-  for (const char* observe : {"dsmc.observe={times: [0.05, 0.1]}",
-                              "dsmc.observe={log: {from: 0.001, per_decade: 4}}"}) {
+  for (const char* observe :
+       {"dsmc.observe={times: [0.05, 0.1]}", "dsmc.observe={log: {from: 0.001, per_decade: 4}}"}) {
     expect_estimate_matches(mix.c_str(), {observe}, 0.15);
     expect_estimate_matches(mix.c_str(), {gauss[0], gauss[1], observe}, 0.15);
   }
-  expect_estimate_matches(mix.c_str(), {gauss[0], gauss[1], "dsmc.t_end=1",
-                                        "dsmc.observe={log: {from: 0.0001, per_decade: 251}}"},
-                          0.15);
+  expect_estimate_matches(
+      mix.c_str(),
+      {gauss[0], gauss[1], "dsmc.t_end=1", "dsmc.observe={log: {from: 0.0001, per_decade: 251}}"},
+      0.15);
 }
 
 // ---- Wall time against the CPU time measured, every engine ----
@@ -423,7 +435,7 @@ TEST(Estimate, WallTimeOfEveryEngineIsWithinAFactorTwoOfTheMeasured) {
     return a;
   };
   const std::vector<std::string> reference_sets = {
-      "dsmc.kernel.lambda=0", "dsmc.particles=4096", "dsmc.gamma=50", "dsmc.alpha=0.8",
+      "dsmc.kernel.lambda=0", "dsmc.particles=4096", "dsmc.gamma=50",         "dsmc.alpha=0.8",
       "dsmc.beta=1",          "dsmc.t_end=12",       "dsmc.observe_every=12", "ensembles=1"};
   const double ref_estimate = estimated_seconds(kHardSpheres, reference_sets);
   double machine = measured_cpu(kHardSpheres, reference_sets, 2) / ref_estimate;
@@ -450,7 +462,8 @@ TEST(Estimate, WallTimeOfEveryEngineIsWithinAFactorTwoOfTheMeasured) {
                      "diameter: 2}]",
                      "dsmc.roughness={beta: 0, inertia: 0.5}", "dsmc.thermostat=gaussian",
                      "dsmc.beta=0", "dsmc.t_end=24"})},
-      {"steady histogram of 1.5*10^4 shells", kTiny,
+      {"steady histogram of 1.5*10^4 shells",
+       kTiny,
        {"ensembles=16", "dsmc.t_end=2", "dsmc.observe_every=0.1", "dsmc.steady_from=0.5",
         "dsmc.histogram={shells: 15000, radius: 5}"}},
       {"TV06 intruder, Gillespie", kIntruder, {"intruder.collisions=400000"}},
@@ -459,7 +472,8 @@ TEST(Estimate, WallTimeOfEveryEngineIsWithinAFactorTwoOfTheMeasured) {
   };
   std::vector<std::pair<const char*, double>> ratios;
   for (const Engine& e : engines)
-    ratios.emplace_back(e.name, measured_cpu(e.text, e.sets, 1) / estimated_seconds(e.text, e.sets));
+    ratios.emplace_back(e.name,
+                        measured_cpu(e.text, e.sets, 1) / estimated_seconds(e.text, e.sets));
   // The machine's factor again at the end: the least of both (the quieter moment).
   machine = std::min(machine, measured_cpu(kHardSpheres, reference_sets, 1) / ref_estimate);
   for (const auto& [name, ratio] : ratios) {
@@ -507,8 +521,8 @@ TEST(Estimate, WeightedPilotThatCannotFitIsSkippedNotAnAllocationFailure) {
   if (static_cast<double>(granboltz::estimate_memory(big, 1)) <
       0.9 * static_cast<double>(granboltz::available_memory()))
     GTEST_SKIP() << "this machine has the memory for the run itself";
-  const auto q = run_granboltz("run " + cfg + " --set dsmc.weights.max_particles=1e9 -q -o " +
-                               dir.file("o.h5"), 60);
+  const auto q = run_granboltz(
+      "run " + cfg + " --set dsmc.weights.max_particles=1e9 -q -o " + dir.file("o.h5"), 60);
   EXPECT_EQ(q.exit_code, 2) << q.output;
   EXPECT_NE(q.output.find("of memory on"), std::string::npos) << q.output;
   EXPECT_FALSE(std::filesystem::exists(dir.file("o.h5")));

@@ -11,8 +11,8 @@
 #include <random>
 #include <thread>
 
-#include "granboltz/h5/hdf5_io.hpp"
 #include "configs.hpp"
+#include "granboltz/h5/hdf5_io.hpp"
 #include "test_support.hpp"
 
 using granboltz::H5Reader;
@@ -103,7 +103,6 @@ TEST(Sharding, MergeRefusesShardsThatDoNotMakeOneRun) {
   EXPECT_FALSE(std::filesystem::exists(dir.file("m.h5")));
 }
 
-
 TEST(Checkpoint, RunKilledAtRandomMomentsResumesToTheUninterruptedOutput) {
   TempDir dir;
   const std::string cfg = dir.write("c.yaml", R"(model: dsmc
@@ -166,8 +165,8 @@ TEST(Checkpoint, CheckpointOfAnotherConfigIsRefused) {
   TempDir dir;
   const std::string cfg = dir.write("c.yaml", kDsmc);
   const std::string out = dir.file("out.h5");
-  const pid_t pid = spawn_granboltz({"run", cfg, "-q", "--set", "checkpoint.every_seconds=0.05", "--set",
-                           "ensembles=100000", "-o", out});
+  const pid_t pid = spawn_granboltz({"run", cfg, "-q", "--set", "checkpoint.every_seconds=0.05",
+                                     "--set", "ensembles=100000", "-o", out});
   for (int i = 0; i < 200 && !std::filesystem::exists(out + ".checkpoint"); ++i)
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   ::kill(pid, SIGKILL);
@@ -252,7 +251,8 @@ dsmc:
 TEST(Checkpoint, SigtermToARunWithoutCheckpointsLeavesNothing) {
   TempDir dir;
   const std::string cfg = dir.write("c.yaml", kDsmc);
-  const pid_t pid = spawn_granboltz({"run", cfg, "-q", "--set", "ensembles=100000", "-o", dir.file("o.h5")});
+  const pid_t pid =
+      spawn_granboltz({"run", cfg, "-q", "--set", "ensembles=100000", "-o", dir.file("o.h5")});
   for (int i = 0; i < 3000 && dir.entries() < 2; ++i)
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   std::this_thread::sleep_for(std::chrono::milliseconds(100));

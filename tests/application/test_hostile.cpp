@@ -98,7 +98,8 @@ std::string make_checkpoint(const TempDir& dir, const std::string& cfg, const st
   EXPECT_TRUE(written);
   H5Reader in(ckpt);
   bool in_progress = false;
-  for (const auto& name : in.datasets()) in_progress = in_progress || name.find("/in_progress/") == 0;
+  for (const auto& name : in.datasets())
+    in_progress = in_progress || name.find("/in_progress/") == 0;
   EXPECT_TRUE(in_progress) << "no ensemble in progress in the checkpoint";
   (void)dir;
   return ckpt;
@@ -108,8 +109,8 @@ std::string make_checkpoint(const TempDir& dir, const std::string& cfg, const st
 std::string find_dataset(const std::string& file, const std::string& suffix) {
   H5Reader in(file);
   for (const auto& name : in.datasets())
-    if (name.size() >= suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(),
-                                                     suffix) == 0)
+    if (name.size() >= suffix.size() &&
+        name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0)
       return name;
   return "";
 }
@@ -144,7 +145,7 @@ TEST(HostilePaths, AFifoOrADeviceAsOutputIsRefusedAndLeftAsItWas) {
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0644), 0);
   const auto before = listing(dir);
   expect_refusal(run_bounded("run " + cfg + " -q -o " + fifo), "p: exists and is a FIFO");
-  struct stat st{};
+  struct stat st {};
   ASSERT_EQ(::lstat(fifo.c_str(), &st), 0);
   EXPECT_TRUE(S_ISFIFO(st.st_mode)) << "the FIFO was replaced";
   EXPECT_EQ(listing(dir), before);
@@ -185,7 +186,7 @@ TEST(HostilePaths, ALinkPlantedAtTheTemporaryNameIsNeitherFollowedNorReplaced) {
   ASSERT_TRUE(WIFEXITED(status));
   EXPECT_EQ(WEXITSTATUS(status), 0);
   EXPECT_EQ(read_all(victim), "precious") << "the link's target was written";
-  struct stat st{};
+  struct stat st {};
   ASSERT_EQ(::lstat(out.c_str(), &st), 0);
   EXPECT_TRUE(S_ISREG(st.st_mode)) << "the output is not a regular file";
   EXPECT_GT(H5Reader(out).datasets().size(), 5u);
@@ -210,7 +211,8 @@ TEST(HostilePaths, AFifoAsConfigOrMergeInputIsRefusedWithoutBlocking) {
   const std::string cfg = dir.write("d.yaml", kTiny), fifo = dir.file("p");
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0644), 0);
   const auto t0 = std::chrono::steady_clock::now();
-  expect_refusal(run_bounded("run " + fifo + " -q -o " + dir.file("o.h5"), 10), "p: is not a regular file");
+  expect_refusal(run_bounded("run " + fifo + " -q -o " + dir.file("o.h5"), 10),
+                 "p: is not a regular file");
   expect_refusal(run_bounded("validate " + fifo, 10), "not a regular file");
   const std::string shard = dir.file("s0.h5");
   ASSERT_EQ(run_granboltz("run " + cfg + " -q --set shard.count=2 --set shard.index=0 -o " + shard)
@@ -226,8 +228,8 @@ TEST(HostilePaths, AFifoAsConfigOrMergeInputIsRefusedWithoutBlocking) {
 TEST(HostilePaths, ASecondRunOnTheSameOutputIsRefusedWhileTheFirstRuns) {
   TempDir dir;
   const std::string cfg = dir.write("long.yaml", kLong), out = dir.file("out.h5");
-  const pid_t first = spawn_granboltz({"run", cfg, "-q", "--set", "checkpoint.every_seconds=0",
-                                       "--set", "ensembles=4", "-o", out});
+  const pid_t first = spawn_granboltz(
+      {"run", cfg, "-q", "--set", "checkpoint.every_seconds=0", "--set", "ensembles=4", "-o", out});
   // The first run's temporary output exists (and is locked) from its start.
   bool started = false;
   for (int i = 0; i < 500 && !started; ++i) {
@@ -306,13 +308,19 @@ TEST(HostileCheckpoints, EditedCheckpointsAreRefusedWithOneLine) {
        },
        "ring_index[0, 0] = 4000000000, not in [0, n = 4000)"},
       {"time NaN",
-       [&](const std::string& f) { granboltz::test::edit_dataset<double>(f, scalars, 0, std::nan(""), H5T_NATIVE_DOUBLE); },
+       [&](const std::string& f) {
+         granboltz::test::edit_dataset<double>(f, scalars, 0, std::nan(""), H5T_NATIVE_DOUBLE);
+       },
        "scalars[0] (t) = nan, not in [0, t_end = 200]"},
       {"time beyond t_end",
-       [&](const std::string& f) { granboltz::test::edit_dataset<double>(f, scalars, 0, 1e300, H5T_NATIVE_DOUBLE); },
+       [&](const std::string& f) {
+         granboltz::test::edit_dataset<double>(f, scalars, 0, 1e300, H5T_NATIVE_DOUBLE);
+       },
        "scalars[0] (t) = 1e+300, not in [0, t_end = 200]"},
       {"u_max changed",
-       [&](const std::string& f) { granboltz::test::edit_dataset<double>(f, scalars, 4, 123.0, H5T_NATIVE_DOUBLE); },
+       [&](const std::string& f) {
+         granboltz::test::edit_dataset<double>(f, scalars, 4, 123.0, H5T_NATIVE_DOUBLE);
+       },
        nullptr},
       {"a counter changed",
        [&](const std::string& f) {
@@ -347,7 +355,8 @@ TEST(HostileCheckpoints, EditedCheckpointsAreRefusedWithOneLine) {
   expect_refusal(run_bounded("run " + cfg + " -q -o " + out), "checkpoint written by granboltz");
   // The sound checkpoint resumes.
   fs::copy_file(good, ckpt, fs::copy_options::overwrite_existing);
-  const auto ok = run_bounded("run " + cfg + " -o " + out, 600);  // a hang guard (ASan under load: 115 s)
+  const auto ok =
+      run_bounded("run " + cfg + " -o " + out, 600);  // a hang guard (ASan under load: 115 s)
   EXPECT_EQ(ok.exit_code, 0) << ok.output;
   EXPECT_NE(ok.output.find("resuming from"), std::string::npos) << ok.output;
 }

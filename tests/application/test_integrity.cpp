@@ -27,8 +27,8 @@ using granboltz::test::flip_byte;
 using granboltz::test::read_all;
 using granboltz::test::run_granboltz;
 using granboltz::test::spawn_granboltz;
-using granboltz::test::wait_for_file;
 using granboltz::test::TempDir;
+using granboltz::test::wait_for_file;
 namespace fs = std::filesystem;
 
 namespace {
@@ -351,10 +351,11 @@ TEST(EditedState, ReadersRefuseZeroStreamsOtherDtypesAndShapesNamingTheDataset) 
   granboltz::Engine e;
   state.stream("stream", e);
   EXPECT_EQ(e.draws(), 17u);  // any other state is fine
-  EXPECT_NE(message([&] { state.stream("zero_stream", e); })
-                .find(path + ": malformed ensemble state : dataset /zero_stream: a random stream in "
-                             "the all-zero state"),
-            std::string::npos);
+  EXPECT_NE(
+      message([&] { state.stream("zero_stream", e); })
+          .find(path + ": malformed ensemble state : dataset /zero_stream: a random stream in "
+                       "the all-zero state"),
+      std::string::npos);
   EXPECT_EQ(message([&] { state.stream("flat", e); }),
             path + ": malformed ensemble state : dataset /flat: has shape (8,), not (5,)");
   granboltz::Particles p;

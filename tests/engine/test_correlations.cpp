@@ -20,7 +20,8 @@ namespace {
 std::string maxwell(int ensembles, double t_end, const std::string& correlations) {
   return "model: dsmc\nseed: 21\nensembles: " + std::to_string(ensembles) +
          "\ndsmc:\n  particles: 2000\n  alpha: 0.8\n  thermostat: gaussian\n  geometry: uniform\n"
-         "  kernel: {lambda: 0, C: 0.0795774715459477}\n  t_end: " + format_real(t_end) +
+         "  kernel: {lambda: 0, C: 0.0795774715459477}\n  t_end: " +
+         format_real(t_end) +
          "\n  observe_every: 1\n  steady_from: 2\n  correlations: " + correlations + "\n";
 }
 
@@ -30,7 +31,8 @@ TEST(Correlations, MaxwellMoleculesDecayAtTheExactRatesUnderTheGaussianThermosta
   // Under the thermostat (transport.md section 1, alpha = 0.8): the tagged velocity and the
   // shear stress decay at (1 + alpha)^2/8, the heat flux at (1 + alpha)^2/12, in units of nu.
   TempDir dir;
-  const std::string cfg = dir.write("c.yaml", maxwell(30, 30, "{velocity: {}, stress: {}, heat_flux: {}}"));
+  const std::string cfg =
+      dir.write("c.yaml", maxwell(30, 30, "{velocity: {}, stress: {}, heat_flux: {}}"));
   const auto r = granboltz::test::run_granboltz("run " + cfg + " -q -o " + dir.file("o.h5"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   H5Reader in(dir.file("o.h5"));
@@ -68,16 +70,18 @@ TEST(Correlations, MaxwellMoleculesDecayAtTheExactRatesUnderTheGaussianThermosta
 
 TEST(Correlations, ThreadsShardsAndCheckpointsKeepTheBits) {
   TempDir dir;
-  const std::string cfg =
-      dir.write("c.yaml", maxwell(6, 6, "{velocity: {particles: 50}, stress: {every: 0.05}, heat_flux: {from: 0}}"));
+  const std::string cfg = dir.write(
+      "c.yaml",
+      maxwell(6, 6, "{velocity: {particles: 50}, stress: {every: 0.05}, heat_flux: {from: 0}}"));
   granboltz::test::expect_threads_and_shards_identical(dir, cfg);
   TempDir again;
   // Long ensembles, so that SIGTERM finds them in progress: the correlators' state is saved.
   const std::string big = again.write(
-      "c.yaml", "model: dsmc\nseed: 3\nensembles: 2\ncheckpoint: {every_seconds: 3600}\ndsmc:\n"
-                "  particles: 40000\n  alpha: 0.7\n  beta: 1\n  kernel: {lambda: 1, C: 0.0795774715459477}\n"
-                "  gamma: 4\n  t_end: 6\n  observe_every: 1\n"
-                "  correlations: {velocity: {}, stress: {}, heat_flux: {}}\n");
+      "c.yaml",
+      "model: dsmc\nseed: 3\nensembles: 2\ncheckpoint: {every_seconds: 3600}\ndsmc:\n"
+      "  particles: 40000\n  alpha: 0.7\n  beta: 1\n  kernel: {lambda: 1, C: 0.0795774715459477}\n"
+      "  gamma: 4\n  t_end: 6\n  observe_every: 1\n"
+      "  correlations: {velocity: {}, stress: {}, heat_flux: {}}\n");
   granboltz::test::expect_sigterm_resumes_identically(again, big);
 }
 

@@ -28,6 +28,7 @@
 #include <string>
 #include <vector>
 
+#include "configs.hpp"
 #include "granboltz/app/config.hpp"
 #include "granboltz/dsmc/ensemble.hpp"
 #include "granboltz/h5/hdf5_io.hpp"
@@ -36,7 +37,6 @@
 #include "granboltz/physics/restitution/collide.hpp"
 #include "granboltz/random/rng.hpp"
 #include "granboltz/random/samplers.hpp"
-#include "configs.hpp"
 #include "test_support.hpp"
 
 using namespace granboltz;
@@ -94,7 +94,8 @@ double maxwell_wn_a2(double a, Geometry g) {
              : 6 * std::pow(1 - a, 2) * (1 + a) / (33 - 25 * a + 3 * a * a - 3 * a * a * a);
 }
 double maxwell_wn_a3(double a, Geometry g) {
-  const double a2 = a * a, a3 = a2 * a, a4 = a3 * a, a5 = a4 * a, q = std::pow(1 - a, 3) * (1 + a) * (1 + a);
+  const double a2 = a * a, a3 = a2 * a, a4 = a3 * a, a5 = a4 * a,
+               q = std::pow(1 - a, 3) * (1 + a) * (1 + a);
   return g == Geometry::kImpact
              ? -4 * q * (17 - 15 * a + 2 * a2 - 2 * a3) /
                    ((10 - 8 * a + a2 - a3) * (55 - 45 * a + 21 * a2 - 17 * a3 + a4 - a5))
@@ -158,9 +159,15 @@ void expect_exact_collisions(std::uint64_t seed) {
     const double size = norm(v) + norm(w), e2 = norm2(v) + norm2(w);
     double eps = 0.0;
     switch (i % 4) {
-      case 0: collide(v, w, e, eps = 0.3); break;
-      case 1: collide(v, w, e, eps = 1.0); break;
-      case 2: eps = collide_law(v, w, e, RestitutionLaw{ConstantRestitution{0.7}}, 1.0); break;
+      case 0:
+        collide(v, w, e, eps = 0.3);
+        break;
+      case 1:
+        collide(v, w, e, eps = 1.0);
+        break;
+      case 2:
+        eps = collide_law(v, w, e, RestitutionLaw{ConstantRestitution{0.7}}, 1.0);
+        break;
       default:
         eps = collide_law(v, w, e, visco, 1.0);
         ASSERT_EQ(eps, visco.eps_of_g2(normal_speed2(v0, w0, e)));
@@ -233,9 +240,12 @@ TEST(Dimension, ImpactAngleAndDeflectionFollowTheExactLawOfEachGeometry) {
         Vec3 v{normal(rng), normal(rng), 0.0}, w{normal(rng), normal(rng), 0.0};
         const Vec3 v0 = v, u = v - w;
         const Vec3 e = g == Geometry::kImpact ? disk_impact_direction(u, rng) : unit_circle(rng);
-        if (law == 0) collide(v, w, e, 0.5);
-        else if (law == 1) collide(v, w, e, 1.0);
-        else collide_law(v, w, e, visco, 1.0);
+        if (law == 0)
+          collide(v, w, e, 0.5);
+        else if (law == 1)
+          collide(v, w, e, 1.0);
+        else
+          collide_law(v, w, e, visco, 1.0);
         const Vec3 dv = v0 - v;  // (1 + eps)/2 (u.n) n
         ASSERT_GT(norm(dv), 0.0);
         const Vec3 nh = unit(dv), uh = unit(u);
@@ -277,11 +287,11 @@ TEST(Dimension, MaxwellFreeCoolingIsExactlyExponentialAtTheRateOfTheGeometry) {
   for (Geometry g : {Geometry::kImpact, Geometry::kUniform}) {
     const Geometry other = g == Geometry::kImpact ? Geometry::kUniform : Geometry::kImpact;
     const auto k = [&](Geometry h) { return 0.25 * (1 - alpha * alpha) * one_minus_mu(h); };
-    const test::DsmcRun r(make({"dsmc.particles=1000", "dsmc.alpha=0.5", "dsmc.thermostat=none",
-                                "dsmc.geometry=" + std::string(geometry_name(g)),
-                                "dsmc.kernel.lambda=0", "dsmc.kernel.C=" + format_real(0.5 / M_PI),
-                                "dsmc.t_end=12", "dsmc.observe_every=1"},
-                               ++seed, static_cast<std::uint64_t>(N)));
+    const test::DsmcRun r(
+        make({"dsmc.particles=1000", "dsmc.alpha=0.5", "dsmc.thermostat=none",
+              "dsmc.geometry=" + std::string(geometry_name(g)), "dsmc.kernel.lambda=0",
+              "dsmc.kernel.C=" + format_real(0.5 / M_PI), "dsmc.t_end=12", "dsmc.observe_every=1"},
+             ++seed, static_cast<std::uint64_t>(N)));
     ASSERT_EQ(r.times.size(), static_cast<std::size_t>(rows));
     double worst = 0.0, worst_other = 1e300;
     for (std::size_t m = 0; m < r.times.size(); ++m) {
@@ -303,9 +313,10 @@ TEST(Dimension, MaxwellMoleculesUnderWhiteNoiseHaveTheExactA2A3AndTemperatureOfE
   // lambda = 0 in d = 2, white noise: E[T] = (1 - 1/n) 2 beta / k at all times when started at
   // T0 = 2 beta / k (k as in the free cooling test: the kicks add 2 beta d (n - 1) to
   // sum |v - V|^2 per unit time), checked at every row (family-wise 0.999) and on the steady
-  // average; and the steady a2, a3 are exact (top of file). Tolerance: the run's interval (3.2 sigma over the ensembles) plus 2/n (1 + |a|) for
-  // the finite-n bias of the moments, as in SonineExact. The two geometries' exact a2 differ by
-  // 0.015, several intervals: each run must reject the other's value.
+  // average; and the steady a2, a3 are exact (top of file). Tolerance: the run's interval (3.2
+  // sigma over the ensembles) plus 2/n (1 + |a|) for the finite-n bias of the moments, as in
+  // SonineExact. The two geometries' exact a2 differ by 0.015, several intervals: each run must
+  // reject the other's value.
   const double alpha = 0.5, beta = 0.125, n = 2000;
   const char* text = R"(model: dsmc
 seed: 9
@@ -328,10 +339,10 @@ dsmc:
     const Steady s = run_steady(text, {"dsmc.geometry=" + std::string(geometry_name(g)),
                                        "dsmc.initial.temperature=" + format_real(T_inf)});
     const double a2 = maxwell_wn_a2(alpha, g), a3 = maxwell_wn_a3(alpha, g);
-    std::printf("%s: a2 %.5f +- %.5f (exact %.5f), a3 %.5f +- %.5f (exact %.5f), "
-                "T %.5f +- %.5f (exact %.5f)\n",
-                geometry_name(g), s.a2, s.a2_ci, a2, s.a3, s.a3_ci, a3, s.T, s.T_ci,
-                (1 - 1 / n) * T_inf);
+    std::printf(
+        "%s: a2 %.5f +- %.5f (exact %.5f), a3 %.5f +- %.5f (exact %.5f), "
+        "T %.5f +- %.5f (exact %.5f)\n",
+        geometry_name(g), s.a2, s.a2_ci, a2, s.a3, s.a3_ci, a3, s.T, s.T_ci, (1 - 1 / n) * T_inf);
     EXPECT_NEAR(s.a2, a2, s.a2_ci + 2 / n * (1 + std::fabs(a2))) << geometry_name(g);
     EXPECT_NEAR(s.a3, a3, s.a3_ci + 2 / n * (1 + std::fabs(a3))) << geometry_name(g);
     EXPECT_NEAR(s.T, (1 - 1 / n) * T_inf, s.T_ci) << geometry_name(g);
@@ -368,7 +379,8 @@ dsmc:
   particles: 2000
   dimension: 2
   alpha: 0.5
-  beta: )") + format_real(beta) + R"(
+  beta: )") + format_real(beta) +
+                           R"(
   gamma: 1
   kernel: {lambda: 1, C: 0.0795774715459477}
   t_end: 400
@@ -379,9 +391,10 @@ dsmc:
   const Steady s = run_steady(text, {});
   const double first = vne_a2(alpha, 2, true), delta = std::fabs(first - kWhiteNoise05.a2);
   EXPECT_NEAR(first, 0.03563, 5e-6);  // beyond.md's d = 2 value
-  std::printf("a2 %.5f +- %.5f (vNE %.5f, second Sonine %.5f); a3 %.5f +- %.5f (second Sonine "
-              "%.5f)\n",
-              s.a2, s.a2_ci, first, kWhiteNoise05.a2, s.a3, s.a3_ci, kWhiteNoise05.a3);
+  std::printf(
+      "a2 %.5f +- %.5f (vNE %.5f, second Sonine %.5f); a3 %.5f +- %.5f (second Sonine "
+      "%.5f)\n",
+      s.a2, s.a2_ci, first, kWhiteNoise05.a2, s.a3, s.a3_ci, kWhiteNoise05.a3);
   EXPECT_NEAR(s.a2, first, s.a2_ci + 2 * delta + 2 / n * (1 + first));
   const double T_vne = (1 - 1 / n) * std::pow(2 * beta / (K0 * (1 + 3 * first / 16)), 2.0 / 3);
   const double T_plain = (1 - 1 / n) * std::pow(2 * beta / K0, 2.0 / 3);
@@ -418,9 +431,10 @@ dsmc:
   const Steady s = run_steady(text, {});
   const double first = vne_a2(alpha, 2, false), delta = std::fabs(first - kHcs08.a2);
   EXPECT_NEAR(first, -0.02194, 5e-6);  // beyond.md's d = 2 value
-  std::printf("a2 %.5f +- %.5f (vNE %.5f, second Sonine %.5f); a3 %.5f +- %.5f (second Sonine "
-              "%.5f)\n",
-              s.a2, s.a2_ci, first, kHcs08.a2, s.a3, s.a3_ci, kHcs08.a3);
+  std::printf(
+      "a2 %.5f +- %.5f (vNE %.5f, second Sonine %.5f); a3 %.5f +- %.5f (second Sonine "
+      "%.5f)\n",
+      s.a2, s.a2_ci, first, kHcs08.a2, s.a3, s.a3_ci, kHcs08.a3);
   EXPECT_NEAR(s.a2, first, s.a2_ci + 2 * delta + 2 / n * (1 + std::fabs(first)));
   EXPECT_NEAR(s.T, 1.0, 1e-12);  // held at T0 to round-off
 }
@@ -443,10 +457,10 @@ TEST(Dimension, HardDisksFollowHaffsLawWithinTheSonineBand) {
     return T0 / ((1 + t / t0) * (1 + t / t0));
   };
   const double far = 1 + 3 * a2_far / 16 + kHcs09.a3 / 64;
-  const test::DsmcRun r(make({"dsmc.particles=10000", "dsmc.alpha=0.9", "dsmc.thermostat=none",
-                              "dsmc.kernel.lambda=1", "dsmc.kernel.C=" + format_real(kGC),
-                              "dsmc.t_end=96", "dsmc.observe_every=8"},
-                             15, static_cast<std::uint64_t>(N)));
+  const test::DsmcRun r(make(
+      {"dsmc.particles=10000", "dsmc.alpha=0.9", "dsmc.thermostat=none", "dsmc.kernel.lambda=1",
+       "dsmc.kernel.C=" + format_real(kGC), "dsmc.t_end=96", "dsmc.observe_every=8"},
+      15, static_cast<std::uint64_t>(N)));
   const double z = test::family_z(2 * 13);
   const std::size_t last = r.times.size() - 1;
   EXPECT_LT(r.at(last, kTemperature).mean, 0.05);  // T falls by a factor 25
@@ -477,9 +491,12 @@ TEST(Dimension, PlaneRunsKeepEveryVelocityInThePlaneAndConserveMomentum) {
   };
   for (const char* geometry : {"impact", "uniform"})
     for (const auto& variant : variants) {
-      std::vector<std::string> sets = {"dsmc.particles=301", "dsmc.alpha=0.6",
-                                       "dsmc.kernel.lambda=1", "dsmc.kernel.C=0.1",
-                                       "dsmc.t_end=16", "dsmc.observe_every=16",
+      std::vector<std::string> sets = {"dsmc.particles=301",
+                                       "dsmc.alpha=0.6",
+                                       "dsmc.kernel.lambda=1",
+                                       "dsmc.kernel.C=0.1",
+                                       "dsmc.t_end=16",
+                                       "dsmc.observe_every=16",
                                        "dsmc.geometry=" + std::string(geometry)};
       sets.insert(sets.end(), variant.begin(), variant.end());
       const Config c = make(sets, 3, 1);
@@ -493,7 +510,8 @@ TEST(Dimension, PlaneRunsKeepEveryVelocityInThePlaneAndConserveMomentum) {
         ASSERT_EQ(q.v.z, 0.0) << geometry << " " << variant[0];
         p1 += q.v;
       }
-      if (c.dsmc.beta == 0.0) EXPECT_LE(norm(p1 - p0), 1e-11 * 301) << geometry << " " << variant[0];
+      if (c.dsmc.beta == 0.0)
+        EXPECT_LE(norm(p1 - p0), 1e-11 * 301) << geometry << " " << variant[0];
     }
 }
 
@@ -545,10 +563,11 @@ TEST(Dimension, ThreadsShardsAndCheckpointsGiveTheSameBits) {
 TEST(Dimension, RunKilledBySigtermResumesToTheUninterruptedOutput) {
   // White noise with a histogram (nosplit), and Strang splitting with the Gaussian thermostat.
   // Each lasts about 2 s here, long enough to be signalled mid-run.
-  for (const char* extra : {"  particles: 60000\n  t_end: 10\n  beta: 1\n"
-                            "  histogram: {shells: 8, radius: 8, component: true}\n",
-                            "  particles: 100000\n  t_end: 20\n  beta: 0\n  thermostat: gaussian\n"
-                            "  scheme: strang\n  steps: 200\n  histogram: {shells: 8, radius: 8}\n"}) {
+  for (const char* extra :
+       {"  particles: 60000\n  t_end: 10\n  beta: 1\n"
+        "  histogram: {shells: 8, radius: 8, component: true}\n",
+        "  particles: 100000\n  t_end: 20\n  beta: 0\n  thermostat: gaussian\n"
+        "  scheme: strang\n  steps: 200\n  histogram: {shells: 8, radius: 8}\n"}) {
     TempDir dir;
     const std::string cfg = dir.write("c.yaml", std::string(R"(model: dsmc
 seed: 42
@@ -571,8 +590,10 @@ TEST(Dimension, ThreeDimensionalImpactIsTheUniformRunBitForBit) {
   // text says impact.
   TempDir dir;
   const std::string cfg = dir.write("c.yaml", kHeated), a = dir.file("a.h5"), b = dir.file("b.h5");
-  expect_ok(run_granboltz("run " + cfg + " -q --set dsmc.dimension=3 --set dsmc.geometry=uniform -o " + a));
-  expect_ok(run_granboltz("run " + cfg + " -q --set dsmc.dimension=3 --set dsmc.geometry=impact -o " + b));
+  expect_ok(run_granboltz("run " + cfg +
+                          " -q --set dsmc.dimension=3 --set dsmc.geometry=uniform -o " + a));
+  expect_ok(run_granboltz("run " + cfg +
+                          " -q --set dsmc.dimension=3 --set dsmc.geometry=impact -o " + b));
   H5Reader ra(a), rb(b);
   const auto names = ra.datasets();
   ASSERT_EQ(names, rb.datasets());
@@ -592,9 +613,9 @@ TEST(Dimension, ConfigWritesDimensionAndGeometryOnlyOffTheDefault) {
   EXPECT_EQ(c.dsmc.dimension, 2);
   EXPECT_EQ(c.dsmc.geometry, Geometry::kImpact);
   EXPECT_EQ(c.dsmc.kernel.area, 2 * M_PI);
-  for (const auto& [sets, geometry] :
-       std::vector<std::pair<std::vector<std::string>, std::string>>{
-           {{}, "impact"}, {{"dsmc.geometry=uniform"}, "uniform"},
+  for (const auto& [sets, geometry] : std::vector<std::pair<std::vector<std::string>, std::string>>{
+           {{}, "impact"},
+           {{"dsmc.geometry=uniform"}, "uniform"},
            {{"dsmc.dimension=3", "dsmc.geometry=impact"}, "impact"}}) {
     const std::string text = text_of(sets);
     EXPECT_NE(text.find("geometry: " + geometry), std::string::npos) << text;
@@ -632,7 +653,8 @@ TEST(Dimension, BadDimensionOrGeometryGivesOneLineErrors) {
       // An integer key like every other: 2.0 is 2, a fraction or a string is refused.
       {{"dsmc.dimension=2.5"}, "dsmc.dimension = 2.5: not an integer"},
       {{"dsmc.dimension='2'"}, "dsmc.dimension = \"2\": must be an integer, not a quoted string"},
-      {{"dsmc.dimension=!!str 2"}, "dsmc.dimension = !!str 2: must be an integer, not a value tagged !!str"},
+      {{"dsmc.dimension=!!str 2"},
+       "dsmc.dimension = !!str 2: must be an integer, not a value tagged !!str"},
       {{"dsmc.geometry=bogus"}, "dsmc.geometry = bogus: must be one of impact, uniform"},
       {{"dsmc.geometry=[1]"}, "dsmc.geometry = [...]: must be one of impact, uniform"},
   };

@@ -44,16 +44,15 @@ std::vector<Case> cases() {
   return {
       {"one species", kHeader, "dsmc"},
       {"one species, gaussian", gaussian(kHeader), "dsmc"},
-      {"mixture", kHeader +
-                      "  species:\n    - {name: a, fraction: 0.5, mass: 1.0, diameter: 1.0}\n"
-                      "    - {name: b, fraction: 0.5, mass: 4.0, diameter: 1.5}\n",
+      {"mixture",
+       kHeader + "  species:\n    - {name: a, fraction: 0.5, mass: 1.0, diameter: 1.0}\n"
+                 "    - {name: b, fraction: 0.5, mass: 4.0, diameter: 1.5}\n",
        "gas"},
       {"rough", kHeader + "  roughness: {beta: 0.5, inertia: 0.4}\n", "gas"},
       {"weighted", kHeader + "  weights: {method: swpm, kappa: 1, max_particles: 300}\n",
        "weighted"},
       {"weighted, gaussian",
-       gaussian(kHeader) + "  weights: {method: swpm, kappa: 1, max_particles: 300}\n",
-       "weighted"},
+       gaussian(kHeader) + "  weights: {method: swpm, kappa: 1, max_particles: 300}\n", "weighted"},
   };
 }
 

@@ -53,13 +53,20 @@ double kernel_C(int d) { return d == 3 ? 1 / (4 * M_PI) : 1 / (2 * M_PI); }
 
 Config flow_config(const Flow& f, std::uint64_t n, std::uint64_t N, std::uint64_t seed,
                    double t_end, double every, const std::vector<std::string>& extra = {}) {
-  std::vector<std::string> sets = {
-      "model=dsmc", "seed=" + std::to_string(seed), "ensembles=" + std::to_string(N),
-      "dsmc.particles=" + std::to_string(n), "dsmc.dimension=" + std::to_string(f.d),
-      "dsmc.geometry=uniform", "dsmc.alpha=" + format_real(f.alpha),
-      "dsmc.beta=" + format_real(f.beta), "dsmc.thermostat=" + f.thermostat, "dsmc.gamma=1",
-      "dsmc.kernel.lambda=0", "dsmc.kernel.C=" + format_real(kernel_C(f.d)),
-      "dsmc.t_end=" + format_real(t_end), "dsmc.observe_every=" + format_real(every)};
+  std::vector<std::string> sets = {"model=dsmc",
+                                   "seed=" + std::to_string(seed),
+                                   "ensembles=" + std::to_string(N),
+                                   "dsmc.particles=" + std::to_string(n),
+                                   "dsmc.dimension=" + std::to_string(f.d),
+                                   "dsmc.geometry=uniform",
+                                   "dsmc.alpha=" + format_real(f.alpha),
+                                   "dsmc.beta=" + format_real(f.beta),
+                                   "dsmc.thermostat=" + f.thermostat,
+                                   "dsmc.gamma=1",
+                                   "dsmc.kernel.lambda=0",
+                                   "dsmc.kernel.C=" + format_real(kernel_C(f.d)),
+                                   "dsmc.t_end=" + format_real(t_end),
+                                   "dsmc.observe_every=" + format_real(every)};
   if (f.shear != 0) sets.push_back("dsmc.shear.rate=" + format_real(f.shear));
   if (f.drag != 0) sets.push_back("dsmc.drag.gamma=" + format_real(f.drag));
   sets.insert(sets.end(), extra.begin(), extra.end());
@@ -163,8 +170,8 @@ TEST(Flight, PropagatorDrawsTheExactMeanAndCovariance) {
   Engine eng = make_stream(11, 0, Consumer::kSweep);
   const Vec3 v{0.8, -1.1, 0.4};
   const double z = test::family_z(9);
-  for (const auto& fl : {LinearFlight{1.0, 0.0, 0.7}, LinearFlight{0.3, 0.9, -1.3},
-                         LinearFlight{0.0, 0.5, 1.0}}) {
+  for (const auto& fl :
+       {LinearFlight{1.0, 0.0, 0.7}, LinearFlight{0.3, 0.9, -1.3}, LinearFlight{0.0, 0.5, 1.0}}) {
     const double s = 0.8;
     const int K = 400000;
     double m[3] = {}, q[6] = {};
@@ -202,7 +209,8 @@ TEST(Flight, SteadyShearOfTheReferenceIsTransportsExactState) {
   for (const int d : {3, 2}) {
     const double al = 0.5;
     const Flow f{d, al, a_s(d, al)};
-    const Matrix C = exact_second_moments(f, 1e12, 1.0, 60.0), C2 = exact_second_moments(f, 1e12, 1.0, 61.0);
+    const Matrix C = exact_second_moments(f, 1e12, 1.0, 60.0),
+                 C2 = exact_second_moments(f, 1e12, 1.0, 61.0);
     double tr = 0, tr2 = 0;
     for (int i = 0; i < d; ++i) tr += C[4 * i], tr2 += C2[4 * i];
     const double p = tr / d;
@@ -251,11 +259,12 @@ TEST(Flight, DragWithNoiseHasTheExactSteadyTemperatureAndA2) {
   const double alpha = 0.5, gd = 0.5, beta = 1.0, nu = 1.0;
   const double zeta = nu * (1 - alpha * alpha) / 4, omega = 2 * gd / zeta;
   const double T = 2 * beta / (zeta + 2 * gd);
-  const double a2 = 2 * (1 - alpha) * (1 - alpha) * (1 + alpha) /
-                    (13 - 9 * alpha + alpha * alpha - alpha * alpha * alpha + 12 * omega * (1 - alpha));
+  const double a2 =
+      2 * (1 - alpha) * (1 - alpha) * (1 + alpha) /
+      (13 - 9 * alpha + alpha * alpha - alpha * alpha * alpha + 12 * omega * (1 - alpha));
   test::TempDir dir;
-  const Config c = flow_config({3, alpha, 0.0, gd, beta}, 2000, 32, 12, 40, 1,
-                               {"dsmc.steady_from=10"});
+  const Config c =
+      flow_config({3, alpha, 0.0, gd, beta}, 2000, 32, 12, 40, 1, {"dsmc.steady_from=10"});
   const std::string cfg = dir.write("c.yaml", c.to_yaml(true)), out = dir.file("o.h5");
   const auto r = test::run_granboltz("run " + cfg + " -q -o " + out);
   ASSERT_EQ(r.exit_code, 0) << r.output;
@@ -270,8 +279,8 @@ TEST(Flight, DragWithNoiseHasTheExactSteadyTemperatureAndA2) {
 TEST(Flight, ShearRunsAreIdenticalOnThreadsShardsAndAfterACheckpoint) {
   test::TempDir dir;
   // Hard spheres: the majorant's windows are part of the state (a window ends at 0.45/a).
-  const Config c = flow_config({3, 0.7, 0.9, 0.0, 0.3}, 300, 4, 13, 3, 0.5,
-                               {"dsmc.kernel.lambda=1"});
+  const Config c =
+      flow_config({3, 0.7, 0.9, 0.0, 0.3}, 300, 4, 13, 3, 0.5, {"dsmc.kernel.lambda=1"});
   const std::string cfg = dir.write("c.yaml", c.to_yaml(true));
   test::expect_threads_and_shards_identical(dir, cfg);
   // Saved mid-window and restored: the same particles, collisions and draws.
@@ -282,8 +291,8 @@ TEST(Flight, ShearRunsAreIdenticalOnThreadsShardsAndAfterACheckpoint) {
 }
 
 TEST(Flight, ConfigKeysAreCheckedAndWrittenOnlyWhenGiven) {
-  const std::vector<std::string> base = {"model=dsmc", "seed=1", "ensembles=1",
-                                         "dsmc.particles=10", "dsmc.alpha=0.5", "dsmc.beta=0",
+  const std::vector<std::string> base = {"model=dsmc",           "seed=1",          "ensembles=1",
+                                         "dsmc.particles=10",    "dsmc.alpha=0.5",  "dsmc.beta=0",
                                          "dsmc.kernel.lambda=1", "dsmc.kernel.C=1", "dsmc.t_end=1"};
   auto parse = [&](std::vector<std::string> extra) {
     auto sets = base;
@@ -296,7 +305,8 @@ TEST(Flight, ConfigKeysAreCheckedAndWrittenOnlyWhenGiven) {
   const Config sheared = parse({"dsmc.shear.rate=0.5", "dsmc.drag.gamma=0.25"});
   EXPECT_EQ(sheared.dsmc.shear_rate(), 0.5);
   EXPECT_EQ(sheared.dsmc.drag_gamma(), 0.25);
-  EXPECT_EQ(sheared.dsmc.majorant, MajorantKind::kGlobal);  // auto: pairwise cannot follow the drift
+  EXPECT_EQ(sheared.dsmc.majorant,
+            MajorantKind::kGlobal);  // auto: pairwise cannot follow the drift
   const Config again = parse_config(sheared.to_yaml(true), "t", {});
   EXPECT_EQ(again.dsmc.shear_rate(), 0.5);
   EXPECT_EQ(again.dsmc.drag_gamma(), 0.25);
@@ -325,8 +335,8 @@ TEST(Flight, ShearMajorantBoundsEverySpeedOfItsWindow) {
   // Hard spheres, no splitting: U_max >= 2 g max|v| (g = 1.25, the growth of a speed over a
   // window) at every stop, so that no pair within the window can outrun it. Without the factor
   // g the drift would carry relative speeds beyond U_max between stops.
-  const Config c = flow_config({3, 0.7, 2.0, 0.0, 0.0}, 500, 1, 15, 6, 0.5,
-                               {"dsmc.kernel.lambda=1"});
+  const Config c =
+      flow_config({3, 0.7, 2.0, 0.0, 0.0}, 500, 1, 15, 6, 0.5, {"dsmc.kernel.lambda=1"});
   DsmcEnsemble e(c.dsmc, 15, 0);
   const double g = flight::Shear::growth(0.45);
   for (double t = 0.05; t <= 6.0; t += 0.05) {

@@ -38,7 +38,8 @@ struct Steady {
 };
 
 Steady steady(const H5Reader& f, const std::string& group) {
-  return {f.read_double("/steady" + group + "/mean")[0], f.read_double("/steady" + group + "/sigma")[0]};
+  return {f.read_double("/steady" + group + "/mean")[0],
+          f.read_double("/steady" + group + "/sigma")[0]};
 }
 
 std::string run(const TempDir& dir, const std::string& name, const std::string& text) {
@@ -49,7 +50,8 @@ std::string run(const TempDir& dir, const std::string& name, const std::string& 
 }
 
 std::string header(int seed, int ensembles, int particles) {
-  return "model: dsmc\nseed: " + std::to_string(seed) + "\nensembles: " + std::to_string(ensembles) +
+  return "model: dsmc\nseed: " + std::to_string(seed) +
+         "\nensembles: " + std::to_string(ensembles) +
          "\ndsmc:\n  particles: " + std::to_string(particles) + "\n";
 }
 
@@ -72,13 +74,17 @@ TEST(Gas, EqualSpeciesAreOneGas) {
   H5Reader m(mix), o(one);
   const double z = test::family_z(4);
   const Steady Ta = steady(m, "/species/a/temperature"), Tb = steady(m, "/species/b/temperature");
-  EXPECT_LT(std::fabs(Ta.mean - Tb.mean), z * std::hypot(Ta.sigma, Tb.sigma)) << Ta.mean << " " << Tb.mean;
+  EXPECT_LT(std::fabs(Ta.mean - Tb.mean), z * std::hypot(Ta.sigma, Tb.sigma))
+      << Ta.mean << " " << Tb.mean;
   const Steady T = steady(m, "/temperature"), T1 = steady(o, "/temperature");
-  EXPECT_LT(std::fabs(T.mean - T1.mean), z * std::hypot(T.sigma, T1.sigma)) << T.mean << " " << T1.mean;
+  EXPECT_LT(std::fabs(T.mean - T1.mean), z * std::hypot(T.sigma, T1.sigma))
+      << T.mean << " " << T1.mean;
   const Steady a2 = steady(m, "/a2"), a21 = steady(o, "/a2");
-  EXPECT_LT(std::fabs(a2.mean - a21.mean), z * std::hypot(a2.sigma, a21.sigma)) << a2.mean << " " << a21.mean;
+  EXPECT_LT(std::fabs(a2.mean - a21.mean), z * std::hypot(a2.sigma, a21.sigma))
+      << a2.mean << " " << a21.mean;
   // The species' temperatures average to the mixture's exactly (x_a = x_b = 1/2).
-  const auto ta = m.read_double("/species/a/temperature/mean"), tb = m.read_double("/species/b/temperature/mean");
+  const auto ta = m.read_double("/species/a/temperature/mean"),
+             tb = m.read_double("/species/b/temperature/mean");
   const auto t = m.read_double("/temperature/mean");
   for (std::size_t k = 0; k < t.size(); ++k) EXPECT_NEAR(0.5 * (ta[k] + tb[k]), t[k], 1e-12 * t[k]);
   EXPECT_EQ(m.read_double("/species/a/density/mean")[0], 0.5);
@@ -93,8 +99,8 @@ TEST(Gas, ElasticMixtureStaysAtEquipartition) {
                                   "  species:\n"
                                   "    - {name: heavy, fraction: 0.25, mass: 10.0, diameter: 2.0}\n"
                                   "    - {name: light, fraction: 0.75, mass: 1.0, diameter: 1.0}\n"
-                                  "  alpha: 1\n  thermostat: none\n" + kHardSpheres +
-                                  "  t_end: 10\n  observe_every: 1\n");
+                                  "  alpha: 1\n  thermostat: none\n" +
+                                  kHardSpheres + "  t_end: 10\n  observe_every: 1\n");
   H5Reader f(out);
   const auto T = f.read_double("/temperature/mean");
   const double z = test::family_z(2 * 10);
@@ -111,13 +117,15 @@ TEST(Gas, ElasticMixtureStaysAtEquipartition) {
 // ensemble, and relax from T_rot(0) = T0/4 to equipartition T = T_rot = 5/8 T0.
 TEST(Gas, RoughElasticRelaxesToEquipartition) {
   TempDir dir;
-  const std::string out = run(dir, "rough",
-                              header(6, 10, 1000) + "  alpha: 1\n  thermostat: none\n" + kHardSpheres +
-                                  "  roughness: {beta: 1, inertia: 0.4}\n"
-                                  "  initial: {temperature: 1, rotational_temperature: 0.25}\n"
-                                  "  t_end: 20\n  observe_every: 1\n  steady_from: 10\n");
+  const std::string out =
+      run(dir, "rough",
+          header(6, 10, 1000) + "  alpha: 1\n  thermostat: none\n" + kHardSpheres +
+              "  roughness: {beta: 1, inertia: 0.4}\n"
+              "  initial: {temperature: 1, rotational_temperature: 0.25}\n"
+              "  t_end: 20\n  observe_every: 1\n  steady_from: 10\n");
   H5Reader f(out);
-  const auto T = f.read_double("/temperature/mean"), R = f.read_double("/temperature_rotational/mean");
+  const auto T = f.read_double("/temperature/mean"),
+             R = f.read_double("/temperature_rotational/mean");
   for (std::size_t k = 1; k < T.size(); ++k) EXPECT_NEAR(T[k] + R[k], T[0] + R[0], 1e-12);
   const double z = test::family_z(2);
   const double expected = 0.5 * (T[0] + R[0]);  // this run's own initial energy
@@ -134,8 +142,8 @@ TEST(Gas, SmoothLimitLeavesSpinsUntouched) {
                            "  t_end: 2\n  observe_every: 0.5\n";
   const std::string rough =
       run(dir, "rough", header(7, 3, 300) + body + "  roughness: {beta: -1, inertia: 0.4}\n");
-  const std::string smooth = run(dir, "smooth",
-                                 header(7, 3, 300) + "  species:\n    - {name: gas, fraction: 1}\n" + body);
+  const std::string smooth =
+      run(dir, "smooth", header(7, 3, 300) + "  species:\n    - {name: gas, fraction: 1}\n" + body);
   H5Reader r(rough), s(smooth);
   const auto R = r.read_double("/temperature_rotational/mean");
   for (double x : R) EXPECT_EQ(x, R[0]);
@@ -157,17 +165,17 @@ TEST(Gas, MartinPiaseckiTracer) {
   for (const Case c : {Case{0.5, 1.0}, Case{0.8, 4.0}}) {
     TempDir dir;
     const std::string a = std::to_string(c.alpha0);
-    const std::string out = run(
-        dir, "tracer",
-        header(seed++, 12, 10000) + "  species:\n    - {name: tracer, fraction: 0.01, mass: " +
-            std::to_string(c.m0) + "}\n    - {name: bath, fraction: 0.99, mass: 1}\n" +
-            "  alpha: [[" + a + ", " + a + "], [" + a + ", 1]]\n  thermostat: gaussian\n" +
-            kHardSpheres + "  t_end: 40\n  observe_every: 0.5\n  steady_from: 5\n");
+    const std::string out =
+        run(dir, "tracer",
+            header(seed++, 12, 10000) + "  species:\n    - {name: tracer, fraction: 0.01, mass: " +
+                std::to_string(c.m0) + "}\n    - {name: bath, fraction: 0.99, mass: 1}\n" +
+                "  alpha: [[" + a + ", " + a + "], [" + a + ", 1]]\n  thermostat: gaussian\n" +
+                kHardSpheres + "  t_end: 40\n  observe_every: 0.5\n  steady_from: 5\n");
     H5Reader f(out);
     const Steady r = steady(f, "/temperature_ratio/tracer_over_bath");
     const double mp = (1 + c.alpha0) / (2 + (1 - c.alpha0) * 1.0 / c.m0);
-    EXPECT_LT(std::fabs(r.mean - mp), z * r.sigma + 0.01 * mp) << "alpha0 " << c.alpha0 << ": " << r.mean
-                                                                << " +- " << r.sigma << " vs " << mp;
+    EXPECT_LT(std::fabs(r.mean - mp), z * r.sigma + 0.01 * mp)
+        << "alpha0 " << c.alpha0 << ": " << r.mean << " +- " << r.sigma << " vs " << mp;
   }
 }
 
@@ -183,12 +191,12 @@ TEST(Gas, GarzoDuftyTemperatureRatio) {
   int seed = 20;
   for (const Case& c : cases) {
     TempDir dir;
-    const std::string out = run(
-        dir, "gd",
-        header(seed++, 10, 2000) + "  species:\n    - {name: one, fraction: 0.5, mass: " +
-            std::to_string(c.mass_ratio) + "}\n    - {name: two, fraction: 0.5, mass: 1}\n" +
-            "  alpha: " + std::to_string(c.alpha) + "\n  thermostat: gaussian\n" + kHardSpheres +
-            "  t_end: 25\n  observe_every: 0.25\n  steady_from: 5\n");
+    const std::string out =
+        run(dir, "gd",
+            header(seed++, 10, 2000) + "  species:\n    - {name: one, fraction: 0.5, mass: " +
+                std::to_string(c.mass_ratio) + "}\n    - {name: two, fraction: 0.5, mass: 1}\n" +
+                "  alpha: " + std::to_string(c.alpha) + "\n  thermostat: gaussian\n" +
+                kHardSpheres + "  t_end: 25\n  observe_every: 0.25\n  steady_from: 5\n");
     H5Reader f(out);
     const Steady r = steady(f, "/temperature_ratio/one_over_two");
     EXPECT_LT(std::fabs(r.mean - c.reference), z * r.sigma + 0.02 * c.reference)
@@ -213,15 +221,17 @@ TEST(Gas, RoughSpheresTheta) {
     const bool noise = std::string(c.thermostat) == "white_noise";
     const std::string out = run(
         dir, "theta",
-        header(seed++, 10, 2000) + "  alpha: " + std::to_string(c.alpha) + "\n  thermostat: " +
-            c.thermostat + "\n" + (noise ? "  beta: 1\n" : "") + kHardSpheres +
+        header(seed++, 10, 2000) + "  alpha: " + std::to_string(c.alpha) +
+            "\n  thermostat: " + c.thermostat + "\n" + (noise ? "  beta: 1\n" : "") + kHardSpheres +
             "  roughness: {beta: " + std::to_string(c.beta) + ", inertia: 0.4}\n" +
             (noise ? "  initial: {temperature: 8, rotational_temperature: 4}\n" : "") +
             "  t_end: 25\n  observe_every: 0.25\n  steady_from: 8\n");
     H5Reader f(out);
     const Steady th = steady(f, "/theta");
-    EXPECT_GT(th.mean, c.reference * (1 - c.below) - z * th.sigma) << c.thermostat << ": " << th.mean << " +- " << th.sigma;
-    EXPECT_LT(th.mean, c.reference * (1 + c.above) + z * th.sigma) << c.thermostat << ": " << th.mean << " +- " << th.sigma;
+    EXPECT_GT(th.mean, c.reference * (1 - c.below) - z * th.sigma)
+        << c.thermostat << ": " << th.mean << " +- " << th.sigma;
+    EXPECT_LT(th.mean, c.reference * (1 + c.above) + z * th.sigma)
+        << c.thermostat << ": " << th.mean << " +- " << th.sigma;
   }
 }
 
@@ -236,50 +246,65 @@ TEST(Gas, StoredRatiosAreTheDeltaMethods) {
   for (const char* geometry : {"", "  dimension: 2\n"}) {
     TempDir dir;
     const bool plane = *geometry != 0;
-    const std::string out = run(dir, "g", header(50, 12, 400) + body + geometry +
-                                              "  roughness: {beta: 0.4, inertia: " + (plane ? "0.5" : "0.4") + "}\n");
+    const std::string out =
+        run(dir, "g",
+            header(50, 12, 400) + body + geometry +
+                "  roughness: {beta: 0.4, inertia: " + (plane ? "0.5" : "0.4") + "}\n");
     H5Reader f(out);
-    const auto rot = f.read_double("/temperature_rotational/mean"), T = f.read_double("/temperature/mean");
+    const auto rot = f.read_double("/temperature_rotational/mean"),
+               T = f.read_double("/temperature/mean");
     const auto th = f.read_double("/theta/mean"), ci = f.read_double("/theta/ci");
-    const auto rot_ci = f.read_double("/temperature_rotational/ci"), T_ci = f.read_double("/temperature/ci");
+    const auto rot_ci = f.read_double("/temperature_rotational/ci"),
+               T_ci = f.read_double("/temperature/ci");
     for (std::size_t m = 0; m < T.size(); ++m) {
       EXPECT_EQ(th[m], rot[m] / T[m]) << m;
       EXPECT_NEAR(ci[m], th[m] * (rot_ci[m] / rot[m] + T_ci[m] / T[m]), 1e-6 * ci[m] + 1e-15) << m;
     }
-    const Steady s = steady(f, "/theta"), r = steady(f, "/temperature_rotational"), t = steady(f, "/temperature");
+    const Steady s = steady(f, "/theta"), r = steady(f, "/temperature_rotational"),
+                 t = steady(f, "/temperature");
     EXPECT_EQ(s.mean, r.mean / t.mean);
-    EXPECT_NEAR(s.sigma, s.mean * (r.sigma / r.mean + t.sigma / t.mean), 1e-6 * s.sigma) << (plane ? "d = 2" : "d = 3");
+    EXPECT_NEAR(s.sigma, s.mean * (r.sigma / r.mean + t.sigma / t.mean), 1e-6 * s.sigma)
+        << (plane ? "d = 2" : "d = 3");
   }
   TempDir dir;
-  const std::string out = run(dir, "m", header(51, 12, 400) +
-                                            "  species:\n    - {name: heavy, fraction: 0.5, mass: 3}\n"
-                                            "    - {name: light, fraction: 0.5, mass: 1}\n" + body);
+  const std::string out = run(dir, "m",
+                              header(51, 12, 400) +
+                                  "  species:\n    - {name: heavy, fraction: 0.5, mass: 3}\n"
+                                  "    - {name: light, fraction: 0.5, mass: 1}\n" +
+                                  body);
   H5Reader f(out);
   const Steady s = steady(f, "/temperature_ratio/heavy_over_light");
-  const Steady a = steady(f, "/species/heavy/temperature"), b = steady(f, "/species/light/temperature");
+  const Steady a = steady(f, "/species/heavy/temperature"),
+               b = steady(f, "/species/light/temperature");
   EXPECT_EQ(s.mean, a.mean / b.mean);
   EXPECT_NEAR(s.sigma, s.mean * (a.sigma / a.mean + b.sigma / b.mean), 1e-6 * s.sigma);
-  EXPECT_FALSE(f.exists("/temperature_ratio/light_over_heavy"));  // one ratio per pair, in species order
-  EXPECT_FALSE(f.exists("/theta"));                                // smooth particles: no theta
+  EXPECT_FALSE(
+      f.exists("/temperature_ratio/light_over_heavy"));  // one ratio per pair, in species order
+  EXPECT_FALSE(f.exists("/theta"));                      // smooth particles: no theta
 }
 
 // The splitting schemes give the no-splitting scheme's steady state (Strang's error is O(dt^2),
 // below the statistics at dt = 0.05 for this gas).
 TEST(Gas, SplittingSchemesAgree) {
   TempDir dir;
-  const std::string body = "  species:\n    - {name: heavy, fraction: 0.5, mass: 4}\n"
-                           "    - {name: light, fraction: 0.5, mass: 1}\n"
-                           "  alpha: 0.8\n  beta: 1\n" + std::string(kHardSpheres) +
-                           "  roughness: {beta: 0.5, inertia: 0.4}\n"
-                           "  initial: {temperature: 8, rotational_temperature: 4}\n"
-                           "  t_end: 20\n  observe_every: 0.5\n  steady_from: 6\n";
+  const std::string body =
+      "  species:\n    - {name: heavy, fraction: 0.5, mass: 4}\n"
+      "    - {name: light, fraction: 0.5, mass: 1}\n"
+      "  alpha: 0.8\n  beta: 1\n" +
+      std::string(kHardSpheres) +
+      "  roughness: {beta: 0.5, inertia: 0.4}\n"
+      "  initial: {temperature: 8, rotational_temperature: 4}\n"
+      "  t_end: 20\n  observe_every: 0.5\n  steady_from: 6\n";
   const std::string a = run(dir, "nosplit", header(40, 10, 1000) + body);
-  const std::string b = run(dir, "strang", header(41, 10, 1000) + body + "  scheme: strang\n  steps: 400\n");
+  const std::string b =
+      run(dir, "strang", header(41, 10, 1000) + body + "  scheme: strang\n  steps: 400\n");
   H5Reader fa(a), fb(b);
   const double z = test::family_z(3);
-  for (const char* g : {"/species/heavy/temperature", "/species/light/temperature", "/temperature_rotational"}) {
+  for (const char* g :
+       {"/species/heavy/temperature", "/species/light/temperature", "/temperature_rotational"}) {
     const Steady x = steady(fa, g), y = steady(fb, g);
-    EXPECT_LT(std::fabs(x.mean - y.mean), z * std::hypot(x.sigma, y.sigma)) << g << ": " << x.mean << " " << y.mean;
+    EXPECT_LT(std::fabs(x.mean - y.mean), z * std::hypot(x.sigma, y.sigma))
+        << g << ": " << x.mean << " " << y.mean;
   }
 }
 
@@ -306,9 +331,10 @@ dsmc:
 }  // namespace
 
 TEST(Gas, ThreadsShardsAndSignalsAreBitIdentical) {
-  for (const std::string extra : {"", " --set dsmc.scheme=euler --set dsmc.steps=40",
-                                  " --set dsmc.thermostat=gaussian --set dsmc.beta=0 --set dsmc.dimension=2 "
-                                  "--set dsmc.roughness.inertia=0.5"}) {
+  for (const std::string extra :
+       {"", " --set dsmc.scheme=euler --set dsmc.steps=40",
+        " --set dsmc.thermostat=gaussian --set dsmc.beta=0 --set dsmc.dimension=2 "
+        "--set dsmc.roughness.inertia=0.5"}) {
     TempDir dir;
     const std::string cfg = dir.write("c.yaml", kRoughMixture) + extra;
     H5Reader f(test::expect_threads_and_shards_identical(dir, cfg));
@@ -363,8 +389,8 @@ TEST(Gas, StoredConfigRoundTrips) {
   EXPECT_NE(text.find("species"), std::string::npos);
   EXPECT_NE(text.find("rotational_temperature"), std::string::npos);
   EXPECT_EQ(parse_config(text, "again.yaml", {}).to_yaml(true), text);
-  const Config plain = parse_config(header(1, 1, 10) + "  alpha: 0.5\n  beta: 1\n" + kHardSpheres +
-                                        "  t_end: 1\n", "p.yaml", {});
+  const Config plain = parse_config(
+      header(1, 1, 10) + "  alpha: 0.5\n  beta: 1\n" + kHardSpheres + "  t_end: 1\n", "p.yaml", {});
   const std::string p = plain.to_yaml(true);
   for (const char* key : {"species", "roughness", "rotational_temperature"})
     EXPECT_EQ(p.find(key), std::string::npos) << key;
@@ -378,19 +404,23 @@ TEST(Gas, SpeciesIntervalsCover) {
   std::vector<double> heavy_mean, heavy_sigma, light_mean, light_sigma;
   for (int k = 0; k < R; ++k) {
     TempDir dir;
-    const std::string out = run(dir, "replica",
-                                header(100 + k, 10, 200) +
-                                    "  species:\n    - {name: heavy, fraction: 0.4, mass: 5}\n"
-                                    "    - {name: light, fraction: 0.6, mass: 1}\n"
-                                    "  alpha: 0.7\n  beta: 1\n" + kHardSpheres +
-                                    "  initial: {temperature: 6}\n  t_end: 12\n  observe_every: 0.25\n"
-                                    "  steady_from: 4\n");
+    const std::string out =
+        run(dir, "replica",
+            header(100 + k, 10, 200) +
+                "  species:\n    - {name: heavy, fraction: 0.4, mass: 5}\n"
+                "    - {name: light, fraction: 0.6, mass: 1}\n"
+                "  alpha: 0.7\n  beta: 1\n" +
+                kHardSpheres +
+                "  initial: {temperature: 6}\n  t_end: 12\n  observe_every: 0.25\n"
+                "  steady_from: 4\n");
     H5Reader f(out);
-    const Steady h = steady(f, "/species/heavy/temperature"), l = steady(f, "/species/light/temperature");
+    const Steady h = steady(f, "/species/heavy/temperature"),
+                 l = steady(f, "/species/light/temperature");
     heavy_mean.push_back(h.mean), heavy_sigma.push_back(h.sigma);
     light_mean.push_back(l.mean), light_sigma.push_back(l.sigma);
   }
-  for (const auto& [mean, sigma] : {std::pair{heavy_mean, heavy_sigma}, std::pair{light_mean, light_sigma}}) {
+  for (const auto& [mean, sigma] :
+       {std::pair{heavy_mean, heavy_sigma}, std::pair{light_mean, light_sigma}}) {
     double grand = 0.0;
     for (double m : mean) grand += m / R;
     double ss = 0.0;
@@ -420,11 +450,12 @@ TEST(Gas, RoughInitialRatesAreExact) {
   int seed = 60;
   for (const double beta : {0.0, 0.5}) {
     TempDir dir;
-    const std::string out = run(dir, "rates",
-                                header(seed++, 20, 100000) + "  alpha: 0.9\n  thermostat: none\n" +
-                                    kHardSpheres + "  roughness: {beta: " + std::to_string(beta) +
-                                    ", inertia: 0.4}\n  initial: {temperature: 1, rotational_temperature: 0}\n"
-                                    "  t_end: 0.02\n  observe_every: 0.01\n");
+    const std::string out =
+        run(dir, "rates",
+            header(seed++, 20, 100000) + "  alpha: 0.9\n  thermostat: none\n" + kHardSpheres +
+                "  roughness: {beta: " + std::to_string(beta) +
+                ", inertia: 0.4}\n  initial: {temperature: 1, rotational_temperature: 0}\n"
+                "  t_end: 0.02\n  observe_every: 0.01\n");
     H5Reader f(out);
     const double eta = kappa * (1 + beta) / (2 * (1 + kappa));
     const double A = (1 - alpha * alpha) / 4 + eta * (1 - eta), B = eta * eta / kappa;
@@ -438,9 +469,10 @@ TEST(Gas, RoughInitialRatesAreExact) {
       const double d1 = mean[1] - mean[0], d2 = mean[2] - mean[0];
       const double slope = 2 * d1 / delta - d2 / (2 * delta);
       // T(0) is random too (the sampled Maxwellian); T_rot(0) = 0 exactly.
-      const double s0 = std::sqrt(var[0] / 20), s1 = std::sqrt(var[1] / 20), s2 = std::sqrt(var[2] / 20);
-      const double sigma = rot ? 2 * s1 / delta + s2 / (2 * delta)
-                               : 2 * (s1 + s0) / delta + (s2 + s0) / (2 * delta);
+      const double s0 = std::sqrt(var[0] / 20), s1 = std::sqrt(var[1] / 20),
+                   s2 = std::sqrt(var[2] / 20);
+      const double sigma =
+          rot ? 2 * s1 / delta + s2 / (2 * delta) : 2 * (s1 + s0) / delta + (s2 + s0) / (2 * delta);
       EXPECT_LT(std::fabs(slope - exact), z * sigma + 1e-3 * std::fabs(exact))
           << g << " beta " << beta << ": " << slope << " +- " << sigma << " vs " << exact;
     }

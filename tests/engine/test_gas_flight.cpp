@@ -14,8 +14,8 @@
 // with the heating or the drag of one species off by a factor 2, so the comparison can fail.
 #include <gtest/gtest.h>
 
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -61,7 +61,8 @@ std::vector<std::vector<double>> exact_temperatures(const Mixture& x, const std:
   for (std::size_t a = 0; a < K; ++a) N[a] = x.fraction[a] * x.n;
   const double chi = x.chi(), e = x.alpha;
   std::vector<double> beta(K), gam(K);
-  for (std::size_t a = 0; a < K; ++a) beta[a] = x.beta[a] * p.beta[a], gam[a] = x.drag[a] * p.drag[a];
+  for (std::size_t a = 0; a < K; ++a)
+    beta[a] = x.beta[a] * p.beta[a], gam[a] = x.drag[a] * p.drag[a];
   auto k_of = [&](std::size_t a, std::size_t b) {
     const double s = 0.5 * (x.diameter[a] + x.diameter[b]);
     return p.rate * x.kgamma * x.C * x.area() * (x.d == 2 ? s : s * s) / x.n;
@@ -84,7 +85,7 @@ std::vector<std::vector<double>> exact_temperatures(const Mixture& x, const std:
         }
         const double mab = x.mass[a] / (x.mass[a] + x.mass[b]), mba = 1.0 - mab;
         const double u2 = N[b] * S(y, a) + N[a] * S(y, b) - 2.0 * Q(y, a, b);  // sum |u|^2
-        const double second = (1.0 + e) * (1.0 + e) * chi / 2.0 * u2;         // E[g^2] (1+e)^2
+        const double second = (1.0 + e) * (1.0 + e) * chi / 2.0 * u2;          // E[g^2] (1+e)^2
         dy[a] += k * (-mba * (1.0 + e) * chi * (N[b] * S(y, a) - Q(y, a, b)) + mba * mba * second);
         dy[b] += k * (mab * (1.0 + e) * chi * (Q(y, a, b) - N[a] * S(y, b)) + mab * mab * second);
         const double eta = (1.0 + e) * chi / 2.0;  // E[Delta v_i] = -mu_ba eta u
@@ -101,7 +102,8 @@ std::vector<std::vector<double>> exact_temperatures(const Mixture& x, const std:
       for (std::size_t f = 0; f < K; ++f)
         for (std::size_t g = 0; g < K; ++g)
           Q(dy, c, f) += L[c * K + g] * Q(y, g, f) + L[f * K + g] * Q(y, c, g);
-    for (std::size_t a = 0; a < K && (parts & 2); ++a) {  // the flights: dv = -gamma_a v dt + sqrt(2 beta_a) dW
+    for (std::size_t a = 0; a < K && (parts & 2);
+         ++a) {  // the flights: dv = -gamma_a v dt + sqrt(2 beta_a) dW
       dy[a] += -2.0 * gam[a] * S(y, a) + 2.0 * x.d * beta[a] * N[a];
       for (std::size_t b = 0; b < K; ++b) Q(dy, a, b) += -(gam[a] + gam[b]) * Q(y, a, b);
       Q(dy, a, a) += 2.0 * x.d * beta[a] * N[a];
@@ -118,7 +120,8 @@ std::vector<std::vector<double>> exact_temperatures(const Mixture& x, const std:
       double vm = 0.0, vv = 0.0;
       for (std::size_t b = 0; b < K; ++b) {
         vm += x.mass[b] / mtot * Q(y, a, b);
-        for (std::size_t c = 0; c < K; ++c) vv += x.mass[b] * x.mass[c] / (mtot * mtot) * Q(y, b, c);
+        for (std::size_t c = 0; c < K; ++c)
+          vv += x.mass[b] * x.mass[c] / (mtot * mtot) * Q(y, b, c);
       }
       out[a].push_back(x.mass[a] / (N[a] * x.d) * (S(y, a) - 2.0 * vm + N[a] * vv));
     }
@@ -136,7 +139,8 @@ std::vector<std::vector<double>> exact_temperatures(const Mixture& x, const std:
       const auto k3 = rhs(z, parts);
       for (std::size_t i = 0; i < dim; ++i) z[i] = y[i] + step * k3[i];
       const auto k4 = rhs(z, parts);
-      for (std::size_t i = 0; i < dim; ++i) y[i] += step / 6.0 * (k1[i] + 2 * k2[i] + 2 * k3[i] + k4[i]);
+      for (std::size_t i = 0; i < dim; ++i)
+        y[i] += step / 6.0 * (k1[i] + 2 * k2[i] + 2 * k3[i] + k4[i]);
     }
   };
   double now = 0.0;
@@ -171,15 +175,16 @@ std::string number(double v) {
 // The species-keyed mapping of values (or a plain number when `scalar`).
 std::string mapping(const Mixture& x, const std::vector<double>& v) {
   std::string s = "{";
-  for (std::size_t a = 0; a < v.size(); ++a) s += (a ? ", " : "") + x.names[a] + ": " + number(v[a]);
+  for (std::size_t a = 0; a < v.size(); ++a)
+    s += (a ? ", " : "") + x.names[a] + ": " + number(v[a]);
   return s + "}";
 }
 
 std::string config_text(const Mixture& x, int seed, int ensembles, double t_end, double every,
                         double steady_from) {
-  std::string s = "model: dsmc\nseed: " + std::to_string(seed) + "\nensembles: " +
-                  std::to_string(ensembles) + "\ndsmc:\n  particles: " + number(x.n) +
-                  "\n  dimension: " + std::to_string(x.d) +
+  std::string s = "model: dsmc\nseed: " + std::to_string(seed) +
+                  "\nensembles: " + std::to_string(ensembles) +
+                  "\ndsmc:\n  particles: " + number(x.n) + "\n  dimension: " + std::to_string(x.d) +
                   "\n  geometry: " + (x.impact ? "impact" : "uniform") + "\n  species:\n";
   for (std::size_t a = 0; a < x.mass.size(); ++a)
     s += "    - {name: " + x.names[a] + ", fraction: " + number(x.fraction[a]) +
@@ -322,7 +327,8 @@ TEST(GasFlight, SplittingSchemesFollowTheirExactSplitEquations) {
     Mixture unsplit = x;
     unsplit.scheme = "nosplit";
     const Deviation w = deviation(f, unsplit, 400, 2.0);
-    EXPECT_GT(std::max(w.rows, w.ratio), test::family_z(w.checks)) << scheme << ": the split is resolved";
+    EXPECT_GT(std::max(w.rows, w.ratio), test::family_z(w.checks))
+        << scheme << ": the split is resolved";
   }
 }
 
@@ -366,7 +372,8 @@ TEST(GasFlight, EqualValuesPerSpeciesAreTheScalarKeyBitForBit) {
       "  alpha: 0.7\n  kernel: {lambda: 1, C: 0.08}\n  t_end: 2\n  observe_every: 1\n";
   for (const auto& [scalar, map] : std::vector<std::pair<std::string, std::string>>{
            {"  beta: 0.6\n", "  beta: {a: 0.6, b: 0.6}\n"},
-           {"  beta: 0.6\n  drag: {gamma: 0.3}\n", "  beta: 0.6\n  drag: {gamma: {a: 0.3, b: 0.3}}\n"}}) {
+           {"  beta: 0.6\n  drag: {gamma: 0.3}\n",
+            "  beta: 0.6\n  drag: {gamma: {a: 0.3, b: 0.3}}\n"}}) {
     const Config c1 = parse_config(base + scalar, "s.yaml", {});
     const Config c2 = parse_config(base + map, "m.yaml", {});
     GasEnsemble e1(c1.dsmc, 5, 0), e2(c2.dsmc, 5, 0);

@@ -18,21 +18,19 @@ using namespace granboltz;
 namespace {
 
 test::DsmcRun run_elastic(double lambda, const std::string& update, std::uint64_t seed,
-                       const std::string& majorant = "global") {
-  const Config c = parse_config("{}", "test",
-                                {"model=dsmc", "seed=" + std::to_string(seed), "ensembles=400",
-                                 "dsmc.particles=200", "dsmc.alpha=1", "dsmc.beta=0",
-                                 "dsmc.gamma=2", "dsmc.kernel.lambda=" + format_real(lambda),
-                                 "dsmc.kernel.C=0.05", "dsmc.initial.temperature=1.5",
-                                 "dsmc.t_end=2", "dsmc.observe_every=0.5",
-                                 "dsmc.majorant_update=" + update,
-                                 "dsmc.majorant=" + majorant});
+                          const std::string& majorant = "global") {
+  const Config c = parse_config(
+      "{}", "test",
+      {"model=dsmc", "seed=" + std::to_string(seed), "ensembles=400", "dsmc.particles=200",
+       "dsmc.alpha=1", "dsmc.beta=0", "dsmc.gamma=2", "dsmc.kernel.lambda=" + format_real(lambda),
+       "dsmc.kernel.C=0.05", "dsmc.initial.temperature=1.5", "dsmc.t_end=2",
+       "dsmc.observe_every=0.5", "dsmc.majorant_update=" + update, "dsmc.majorant=" + majorant});
   return test::DsmcRun(c);
 }
 
 double expected_collisions(double lambda, double n, double T, double gamma, double C, double t) {
-  const double mean_u = std::pow(4 * T, lambda / 2) * gsl_sf_gamma((3 + lambda) / 2) /
-                        gsl_sf_gamma(1.5);
+  const double mean_u =
+      std::pow(4 * T, lambda / 2) * gsl_sf_gamma((3 + lambda) / 2) / gsl_sf_gamma(1.5);
   return (n - 1) / 2 * 4 * M_PI * gamma * C * mean_u * t;
 }
 
@@ -89,13 +87,13 @@ TEST(HardSpheres, PairwiseAndGlobalMajorantsAgreeOnTheHeatedGas) {
   // and fourth moment of the two majorants agree within their joint confidence interval at every
   // observation time.
   auto run = [](const std::string& majorant, std::uint64_t seed) {
-    const Config c = parse_config(
-        "{}", "test",
-        {"model=dsmc", "seed=" + std::to_string(seed), "ensembles=1500", "dsmc.particles=256",
-         "dsmc.alpha=0.5", "dsmc.beta=0.125", "dsmc.gamma=4", "dsmc.kernel.lambda=1",
-         "dsmc.kernel.C=0.0795774715459477", "dsmc.t_end=2", "dsmc.observe_every=0.25",
-         "dsmc.scheme=strang", "dsmc.steps=16", "dsmc.majorant_update=strict",
-         "dsmc.majorant=" + majorant});
+    const Config c =
+        parse_config("{}", "test",
+                     {"model=dsmc", "seed=" + std::to_string(seed), "ensembles=1500",
+                      "dsmc.particles=256", "dsmc.alpha=0.5", "dsmc.beta=0.125", "dsmc.gamma=4",
+                      "dsmc.kernel.lambda=1", "dsmc.kernel.C=0.0795774715459477", "dsmc.t_end=2",
+                      "dsmc.observe_every=0.25", "dsmc.scheme=strang", "dsmc.steps=16",
+                      "dsmc.majorant_update=strict", "dsmc.majorant=" + majorant});
     return test::DsmcRun(c);
   };
   const test::DsmcRun g = run("global", 801), p = run("pairwise", 802);
@@ -104,7 +102,8 @@ TEST(HardSpheres, PairwiseAndGlobalMajorantsAgreeOnTheHeatedGas) {
     for (int k : {4, 17}) {  // temperature, fourth moment
       const MeanCi a = g.at(m, k);
       const MeanCi b = p.at(m, k);
-      EXPECT_NEAR(a.mean, b.mean, z * std::sqrt(a.variance / g.ensembles + b.variance / p.ensembles))
+      EXPECT_NEAR(a.mean, b.mean,
+                  z * std::sqrt(a.variance / g.ensembles + b.variance / p.ensembles))
           << "scalar " << k << " t=" << g.times[m];
     }
   double ge = 0, pe = 0;

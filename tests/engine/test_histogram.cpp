@@ -57,8 +57,8 @@ Integrals integrate(const Record& record, const std::string& name, std::uint64_t
 
 TEST(Histogram, AboutTheBulkVelocityIntegratesToTheCentredMoments) {
   for (const char* center : {"bulk", "origin"}) {
-    const Config c = parse_config(kHeated, "test.yaml",
-                                  {std::string("dsmc.histogram.center=") + center});
+    const Config c =
+        parse_config(kHeated, "test.yaml", {std::string("dsmc.histogram.center=") + center});
     const test::DsmcRun run(c);
     const DsmcConfig& d = c.dsmc;
     const double h = d.histogram.radius / static_cast<double>(d.histogram.shells);

@@ -32,7 +32,8 @@ dsmc:
 std::string continued(const std::string& source, const std::string& extra = "") {
   return "model: dsmc\nseed: 9\nensembles: 6\ndsmc:\n  particles: 400\n  alpha: 0.5\n"
          "  beta: 0\n  shear: {rate: 1.0}\n  kernel: {lambda: 1, C: 0.0795774715459477}\n"
-         "  initial: {from: \"" + source + "\"}\n  t_end: 1\n  observe_every: 0.5\n" + extra;
+         "  initial: {from: \"" +
+         source + "\"}\n  t_end: 1\n  observe_every: 0.5\n" + extra;
 }
 
 void expect_first_row_is_the_sources_last(const std::string& source, const std::string& out,
@@ -52,7 +53,9 @@ void expect_first_row_is_the_sources_last(const std::string& source, const std::
 TEST(InitialFrom, FirstRowIsTheSourcesLastBitForBitOnThreadsAndShards) {
   test::TempDir dir;
   const std::string src = dir.file("source.h5");
-  ASSERT_EQ(test::run_granboltz("run " + dir.write("source.yaml", kSource) + " -q -o " + src).exit_code, 0);
+  ASSERT_EQ(
+      test::run_granboltz("run " + dir.write("source.yaml", kSource) + " -q -o " + src).exit_code,
+      0);
   // The continued run: a sheared gas from the heated state.
   const std::string cfg = dir.write("c.yaml", continued(src));
   const std::string one = test::expect_threads_and_shards_identical(dir, cfg);
@@ -72,19 +75,23 @@ TEST(InitialFrom, RoughMixtureContinuesWithItsSpins) {
   std::string source = kSource;
   source.replace(source.find("  alpha"), 0, species);
   const std::string src = dir.file("source.h5"), out = dir.file("out.h5");
-  ASSERT_EQ(test::run_granboltz("run " + dir.write("s.yaml", source) + " -q -o " + src).exit_code, 0);
+  ASSERT_EQ(test::run_granboltz("run " + dir.write("s.yaml", source) + " -q -o " + src).exit_code,
+            0);
   std::string next = "model: dsmc\nseed: 3\nensembles: 4\ndsmc:\n  particles: 400\n" + species +
                      "  alpha: 0.9\n  beta: 0\n  thermostat: none\n"
                      "  kernel: {lambda: 1, C: 0.0795774715459477}\n"
-                     "  initial: {from: \"" + src + "\"}\n  t_end: 0.5\n  observe_every: 0.5\n";
+                     "  initial: {from: \"" +
+                     src + "\"}\n  t_end: 0.5\n  observe_every: 0.5\n";
   const auto r = test::run_granboltz("run " + dir.write("n.yaml", next) + " -q -o " + out);
   ASSERT_EQ(r.exit_code, 0) << r.output;
   // The first 4 of the source's 6 ensembles: compare the rotational temperature's sums through
   // a second source run of 4 ensembles (the same first 4, bit for bit).
   source.replace(source.find("ensembles: 6"), 12, "ensembles: 4");
   const std::string src4 = dir.file("source4.h5");
-  ASSERT_EQ(test::run_granboltz("run " + dir.write("s4.yaml", source) + " -q -o " + src4).exit_code, 0);
-  expect_first_row_is_the_sources_last(src4, out, {"temperature", "temperature_rotational", "species/a/temperature"});
+  ASSERT_EQ(test::run_granboltz("run " + dir.write("s4.yaml", source) + " -q -o " + src4).exit_code,
+            0);
+  expect_first_row_is_the_sources_last(
+      src4, out, {"temperature", "temperature_rotational", "species/a/temperature"});
 }
 
 TEST(InitialFrom, MaxwellGasContinuesOnItsExactLaw) {
@@ -92,20 +99,28 @@ TEST(InitialFrom, MaxwellGasContinuesOnItsExactLaw) {
   // n-particle temperature (tests/support/test_support.hpp). A run of 1 continued for 2 under the
   // same physics has at its t the law of the uninterrupted run at 1 + t.
   test::TempDir dir;
-  const std::string base = "model: dsmc\nseed: 21\nensembles: 200\ndsmc:\n  particles: 500\n"
-                           "  alpha: 0.5\n  beta: 1\n  gamma: 4\n"
-                           "  kernel: {lambda: 0, C: 0.0795774715459477}\n";
+  const std::string base =
+      "model: dsmc\nseed: 21\nensembles: 200\ndsmc:\n  particles: 500\n"
+      "  alpha: 0.5\n  beta: 1\n  gamma: 4\n"
+      "  kernel: {lambda: 0, C: 0.0795774715459477}\n";
   const std::string src = dir.file("s.h5"), out = dir.file("o.h5");
-  ASSERT_EQ(test::run_granboltz("run " + dir.write("s.yaml", base + "  t_end: 1\n  observe_every: 0.5\n") +
-                                " -q -o " + src).exit_code, 0);
   ASSERT_EQ(test::run_granboltz("run " +
-                                dir.write("c.yaml", base + "  initial: {from: \"" + src + "\"}\n"
-                                                    "  t_end: 2\n  observe_every: 0.5\n") +
-                                " -q -o " + out).exit_code, 0);
+                                dir.write("s.yaml", base + "  t_end: 1\n  observe_every: 0.5\n") +
+                                " -q -o " + src)
+                .exit_code,
+            0);
+  ASSERT_EQ(test::run_granboltz("run " +
+                                dir.write("c.yaml", base + "  initial: {from: \"" + src +
+                                                        "\"}\n"
+                                                        "  t_end: 2\n  observe_every: 0.5\n") +
+                                " -q -o " + out)
+                .exit_code,
+            0);
   H5Reader r(out);
   const auto time = r.read_double("/time"), T = r.read_double("/temperature/mean"),
              var = r.read_double("/temperature/variance");
-  // zeta = gamma pi C (1 - alpha^2) = 0.75, T_inf = 2 beta / zeta (GRW05 eq. 17), centred (1 - 1/n).
+  // zeta = gamma pi C (1 - alpha^2) = 0.75, T_inf = 2 beta / zeta (GRW05 eq. 17), centred (1 -
+  // 1/n).
   const double zeta = 4 * M_PI * 0.0795774715459477 * 0.75, T_inf = 2 * 1.0 / zeta, n = 500;
   const double z = test::family_z(static_cast<int>(time.size()));
   for (std::size_t m = 0; m < time.size(); ++m) {
@@ -118,7 +133,9 @@ TEST(InitialFrom, MaxwellGasContinuesOnItsExactLaw) {
 TEST(InitialFrom, IncompatibleOrChangedSourcesAreRefusedInOneLine) {
   test::TempDir dir;
   const std::string src = dir.file("source.h5");
-  ASSERT_EQ(test::run_granboltz("run " + dir.write("source.yaml", kSource) + " -q -o " + src).exit_code, 0);
+  ASSERT_EQ(
+      test::run_granboltz("run " + dir.write("source.yaml", kSource) + " -q -o " + src).exit_code,
+      0);
   const Config ok = parse_config(continued(src), "c", {});
   const std::string stored = ok.to_yaml(true);
   auto refused = [&](const std::string& text, const std::vector<std::string>& sets,
@@ -142,6 +159,7 @@ TEST(InitialFrom, IncompatibleOrChangedSourcesAreRefusedInOneLine) {
   std::string other = kSource;
   other.replace(other.find("seed: 5"), 7, "seed: 6");
   std::filesystem::remove(src);
-  ASSERT_EQ(test::run_granboltz("run " + dir.write("o.yaml", other) + " -q -o " + src).exit_code, 0);
+  ASSERT_EQ(test::run_granboltz("run " + dir.write("o.yaml", other) + " -q -o " + src).exit_code,
+            0);
   refused(stored, {}, "its stored config has changed");
 }

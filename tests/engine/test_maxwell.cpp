@@ -23,14 +23,19 @@ struct Case {
 };
 
 test::DsmcRun run(const Case& k, std::uint64_t n, std::uint64_t N, const std::string& scheme,
-               std::uint64_t steps, double t_end, double observe_every, std::uint64_t seed) {
-  std::vector<std::string> sets = {
-      "model=dsmc", "seed=" + std::to_string(seed), "ensembles=" + std::to_string(N),
-      "dsmc.particles=" + std::to_string(n), "dsmc.scheme=" + scheme,
-      "dsmc.alpha=" + format_real(k.alpha), "dsmc.beta=" + format_real(k.beta),
-      "dsmc.gamma=" + format_real(k.gamma), "dsmc.kernel.lambda=0",
-      "dsmc.kernel.C=" + format_real(k.C0), "dsmc.t_end=" + format_real(t_end),
-      "dsmc.observe_every=" + format_real(observe_every)};
+                  std::uint64_t steps, double t_end, double observe_every, std::uint64_t seed) {
+  std::vector<std::string> sets = {"model=dsmc",
+                                   "seed=" + std::to_string(seed),
+                                   "ensembles=" + std::to_string(N),
+                                   "dsmc.particles=" + std::to_string(n),
+                                   "dsmc.scheme=" + scheme,
+                                   "dsmc.alpha=" + format_real(k.alpha),
+                                   "dsmc.beta=" + format_real(k.beta),
+                                   "dsmc.gamma=" + format_real(k.gamma),
+                                   "dsmc.kernel.lambda=0",
+                                   "dsmc.kernel.C=" + format_real(k.C0),
+                                   "dsmc.t_end=" + format_real(t_end),
+                                   "dsmc.observe_every=" + format_real(observe_every)};
   if (steps) sets.push_back("dsmc.steps=" + std::to_string(steps));
   return test::DsmcRun(parse_config("{}", "test", sets));
 }
@@ -78,13 +83,13 @@ TEST(MaxwellMolecules, SteadySpeedMomentsMatchTheExactMomentHierarchy) {
   // and 9e-3 relative), so the limit values are the reference.
   const std::uint64_t n = 10000, N = 400;
   const int P = 3;
-  const test::DsmcRun r(parse_config("{}", "test",
-                                     {"model=dsmc", "seed=77", "ensembles=" + std::to_string(N),
-                                      "dsmc.particles=" + std::to_string(n), "dsmc.alpha=0.5",
-                                      "dsmc.beta=1", "dsmc.gamma=1", "dsmc.kernel.lambda=0",
-                                      "dsmc.kernel.C=" + format_real(1 / M_PI),
-                                      "dsmc.initial.temperature=" + format_real(8.0 / 3.0),
-                                      "dsmc.t_end=8", "dsmc.moments=" + std::to_string(P)}));
+  const test::DsmcRun r(parse_config(
+      "{}", "test",
+      {"model=dsmc", "seed=77", "ensembles=" + std::to_string(N),
+       "dsmc.particles=" + std::to_string(n), "dsmc.alpha=0.5", "dsmc.beta=1", "dsmc.gamma=1",
+       "dsmc.kernel.lambda=0", "dsmc.kernel.C=" + format_real(1 / M_PI),
+       "dsmc.initial.temperature=" + format_real(8.0 / 3.0), "dsmc.t_end=8",
+       "dsmc.moments=" + std::to_string(P)}));
   const double exact[P] = {8.0 * (1.0 - 1.0 / static_cast<double>(n)), 8000.0 / 69.0,
                            332864000.0 / 129789.0};
   const double z = test::family_z(P);
@@ -186,12 +191,14 @@ TEST(SplittingSchemes, SimulatedErrorShrinksLikeOneOverKForEulerAndOneOverKSquar
     for (int i = 0; i < 2; ++i) {
       const double lo = (emax[i] - delta[i]) / (emax[i + 1] + delta[i + 1]);
       const double hi = (emax[i] + delta[i]) / (emax[i + 1] - delta[i + 1]);
-      const double expected = recurrence_emax(exact, Ks[i], strang) /
-                              recurrence_emax(exact, Ks[i + 1], strang);
+      const double expected =
+          recurrence_emax(exact, Ks[i], strang) / recurrence_emax(exact, Ks[i + 1], strang);
       EXPECT_LE(lo, expected) << (strang ? "strang" : "euler") << " K=" << Ks[i];
       EXPECT_GE(hi, expected) << (strang ? "strang" : "euler") << " K=" << Ks[i];
-      if (strang) EXPECT_GT(lo, 2.0) << "Strang must not look first order";
-      else EXPECT_LT(hi, 4.0) << "Euler must not look second order";
+      if (strang)
+        EXPECT_GT(lo, 2.0) << "Strang must not look first order";
+      else
+        EXPECT_LT(hi, 4.0) << "Euler must not look second order";
     }
   }
 }

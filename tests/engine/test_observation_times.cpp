@@ -19,16 +19,21 @@ namespace {
 constexpr int kTemperature = 4;
 
 DsmcConfig dsmc_of(const std::vector<std::string>& sets) {
-  std::vector<std::string> all = {"model=dsmc", "seed=1", "ensembles=2", "dsmc.particles=64",
-                                  "dsmc.alpha=0.5", "dsmc.beta=0", "dsmc.kernel.lambda=0",
-                                  "dsmc.kernel.C=0.0795774715459477", "dsmc.t_end=100"};
+  std::vector<std::string> all = {
+      "model=dsmc",     "seed=1",      "ensembles=2",          "dsmc.particles=64",
+      "dsmc.alpha=0.5", "dsmc.beta=0", "dsmc.kernel.lambda=0", "dsmc.kernel.C=0.0795774715459477",
+      "dsmc.t_end=100"};
   all.insert(all.end(), sets.begin(), sets.end());
   return parse_config("{}", "test", all).dsmc;
 }
 
 // The stored config of an output, and its times.
-std::string stored_config(const std::string& file) { return H5Reader(file).attr_string("/", "config"); }
-std::vector<double> stored_times(const std::string& file) { return H5Reader(file).read_double("/time"); }
+std::string stored_config(const std::string& file) {
+  return H5Reader(file).attr_string("/", "config");
+}
+std::vector<double> stored_times(const std::string& file) {
+  return H5Reader(file).read_double("/time");
+}
 
 // Every dataset of two outputs agrees byte for byte (their stored configs differ in the key).
 void expect_same_datasets(const std::string& a, const std::string& b) {
@@ -66,8 +71,8 @@ TEST(ObservationTimes, LogGridIsZeroThenT1TimesTenToTheJOverKThenTEnd) {
 
 TEST(ObservationTimes, SplittingRoundsTheLogGridToStepsAndRefusesListedTimesOffThem) {
   // dt = 0.05: 10^-3 ... 10^-1.5 round to 0 or to steps already taken and are dropped.
-  const DsmcConfig d = dsmc_of({"dsmc.scheme=euler", "dsmc.steps=2000", "dsmc.observe.log.from=0.001",
-                                "dsmc.observe.log.per_decade=12"});
+  const DsmcConfig d = dsmc_of({"dsmc.scheme=euler", "dsmc.steps=2000",
+                                "dsmc.observe.log.from=0.001", "dsmc.observe.log.per_decade=12"});
   const std::vector<double> t = dsmc_times(d);
   const double dt = d.time_step();
   EXPECT_EQ(t[1], dt);
@@ -89,10 +94,10 @@ TEST(ObservationTimes, SplittingRoundsTheLogGridToStepsAndRefusesListedTimesOffT
     const double j = std::round(12.0 * std::log10(t[m] / 0.001));
     EXPECT_LE(std::fabs(t[m] - 0.001 * std::pow(10.0, j / 12.0)), 0.5 * dt * (1 + 1e-12)) << m;
   }
-  EXPECT_EQ(test::config_error("{}", {"model=dsmc", "seed=1", "ensembles=2", "dsmc.particles=64",
-                                      "dsmc.alpha=0.5", "dsmc.beta=0", "dsmc.kernel.lambda=0",
-                                      "dsmc.kernel.C=1", "dsmc.t_end=1", "dsmc.scheme=strang",
-                                      "dsmc.steps=10", "dsmc.observe.times=[0.2, 0.25]"}),
+  EXPECT_EQ(test::config_error(
+                "{}", {"model=dsmc", "seed=1", "ensembles=2", "dsmc.particles=64", "dsmc.alpha=0.5",
+                       "dsmc.beta=0", "dsmc.kernel.lambda=0", "dsmc.kernel.C=1", "dsmc.t_end=1",
+                       "dsmc.scheme=strang", "dsmc.steps=10", "dsmc.observe.times=[0.2, 0.25]"}),
             "dsmc.observe.times[1] = 0.25: must be a whole multiple of the time step t_end/steps = "
             "0.1 (scheme strang)");
 }
@@ -101,13 +106,15 @@ TEST(ObservationTimes, ListedTimesAreStoredAsGivenWithTEndAppendedAndTheConfigRo
   test::TempDir dir;
   const std::string cfg = dir.write("c.yaml", test::base_config("dsmc_observe"));
   const std::string out = dir.file("out.h5");
-  const auto r = test::run_granboltz("run " + cfg + " -q -o " + out +
-                                     " --set 'dsmc.observe={times: [0.1, 0.125, 0.30000000000000004]}'");
+  const auto r =
+      test::run_granboltz("run " + cfg + " -q -o " + out +
+                          " --set 'dsmc.observe={times: [0.1, 0.125, 0.30000000000000004]}'");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_EQ(stored_times(out), (std::vector<double>{0.0, 0.1, 0.125, 0.30000000000000004, 0.5}));
   const std::string text = stored_config(out);
   EXPECT_NE(text.find("  observe: {times: [0.1, 0.125, 0.30000000000000004, 0.5]}\n"),
-            std::string::npos) << text;
+            std::string::npos)
+      << text;
   EXPECT_EQ(text.find("observe_every"), std::string::npos) << text;
   // The stored config read again is the same config, written the same way.
   const Config again = parse_config(text, "stored", {});
@@ -128,11 +135,18 @@ TEST(ObservationTimes, MaxwellFreeCoolingAtLogTimesFollowsTheExactLawOverFiveDec
   const double n = 64, N = 2000;
   const MaxwellExact exact{0.5, 0.0, 1.0, 0.0795774715459477, 1.0};
   for (const bool split : {false, true}) {
-    std::vector<std::string> sets = {"model=dsmc", "seed=41", "ensembles=2000",
-                                     "dsmc.particles=64", "dsmc.alpha=0.5", "dsmc.thermostat=none",
-                                     "dsmc.kernel.lambda=0", "dsmc.kernel.C=0.0795774715459477",
-                                     "dsmc.t_end=100", "dsmc.observe.log.from=0.001",
-                                     "dsmc.observe.log.per_decade=12", "dsmc.moments=0"};
+    std::vector<std::string> sets = {"model=dsmc",
+                                     "seed=41",
+                                     "ensembles=2000",
+                                     "dsmc.particles=64",
+                                     "dsmc.alpha=0.5",
+                                     "dsmc.thermostat=none",
+                                     "dsmc.kernel.lambda=0",
+                                     "dsmc.kernel.C=0.0795774715459477",
+                                     "dsmc.t_end=100",
+                                     "dsmc.observe.log.from=0.001",
+                                     "dsmc.observe.log.per_decade=12",
+                                     "dsmc.moments=0"};
     if (split) sets.insert(sets.end(), {"dsmc.scheme=euler", "dsmc.steps=2000"});
     const Config c = parse_config("{}", "test", sets);
     const test::DsmcRun r(c);
@@ -191,26 +205,28 @@ TEST(ObservationTimes, AListEqualToTheObserveEveryGridGivesItsBitsOnEveryEngine)
     text.replace(text.find("  observe_every: 0.25\n"), 21, "");
     const std::string cfg2 = dir.write("d.yaml", text) +
                              " -q --set dsmc.particles=100 --set dsmc.t_end=1 --set " + engine;
-    ok(test::run_granboltz("run " + cfg2 + " --set 'dsmc.observe={times: " +
-                           uniform_list(0.1, 10) + "}' -o " + listed));
+    ok(test::run_granboltz("run " + cfg2 + " --set 'dsmc.observe={times: " + uniform_list(0.1, 10) +
+                           "}' -o " + listed));
     expect_same_datasets(every, listed);
-    EXPECT_EQ(stored_times(listed), dsmc_times(parse_config(test::base_config("dsmc"), "b",
-                                                            {"dsmc.t_end=1", "dsmc.observe_every=0.1"})
-                                                   .dsmc))
+    EXPECT_EQ(stored_times(listed),
+              dsmc_times(parse_config(test::base_config("dsmc"), "b",
+                                      {"dsmc.t_end=1", "dsmc.observe_every=0.1"})
+                             .dsmc))
         << engine;
     EXPECT_NE(stored_config(listed).find("observe: {times: [0.1, 0.2, 0.30000000000000004"),
-              std::string::npos) << stored_config(listed);
+              std::string::npos)
+        << stored_config(listed);
   }
 }
 
 TEST(ObservationTimes, ThreadsShardsAndResumeAreBitIdenticalOnALogGrid) {
-  for (const std::string engine :
-       {std::string("dsmc.beta=1"), std::string(kEngines[1]), std::string(kEngines[2]),
-        std::string(kEngines[3])}) {
+  for (const std::string engine : {std::string("dsmc.beta=1"), std::string(kEngines[1]),
+                                   std::string(kEngines[2]), std::string(kEngines[3])}) {
     test::TempDir dir;
     const std::string cfg = dir.write("c.yaml", test::base_config("dsmc_observe")) +
                             " --set dsmc.t_end=1 --set dsmc.particles=100 --set 'dsmc.observe="
-                            "{log: {from: 0.01, per_decade: 5}}' --set " + engine;
+                            "{log: {from: 0.01, per_decade: 5}}' --set " +
+                            engine;
     const std::string one = test::expect_threads_and_shards_identical(dir, cfg);
     const std::vector<double> t = stored_times(one);
     EXPECT_GE(t.size(), 8u) << engine;

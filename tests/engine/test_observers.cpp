@@ -23,7 +23,8 @@ namespace {
 const std::string kHeader =
     "model: dsmc\nseed: 5\nensembles: 2\ndsmc:\n  particles: 120\n  alpha: 0.7\n"
     "  kernel: {lambda: 1, C: 0.0795774715459477}\n  t_end: 0.4\n  observe_every: 0.2\n";
-const std::string kHistogram = "  histogram: {shells: 8, radius: 4, component: true, center: bulk}\n";
+const std::string kHistogram =
+    "  histogram: {shells: 8, radius: 4, component: true, center: bulk}\n";
 const std::string kWeighted = "  weights: {method: swpm, kappa: 1, max_particles: 300}\n";
 
 std::vector<std::string> names(const std::string& text) {
@@ -60,7 +61,8 @@ TEST(Observers, HistogramRowsSurviveACheckpointAndABadOneIsRefused) {
   const Config config = parse_config(kHeader + "  beta: 1\n" + kHistogram + kWeighted, "test");
   const HistogramObserver h(config.dsmc, HistogramObserver::kComponent);
   ObserverRows rows = h.start(true);
-  for (std::size_t k = 0; k < rows.counts.size(); ++k) rows.counts[k] = 3 * k, rows.values[k] = 0.5 * k;
+  for (std::size_t k = 0; k < rows.counts.size(); ++k)
+    rows.counts[k] = 3 * k, rows.values[k] = 0.5 * k;
   TempDir dir;
   {
     H5Writer w(dir.file("state.h5"));
@@ -77,6 +79,7 @@ TEST(Observers, HistogramRowsSurviveACheckpointAndABadOneIsRefused) {
     h.load(r, "/bad", true, 1);
     FAIL() << "a histogram of the wrong size was accepted";
   } catch (const std::runtime_error& err) {
-    EXPECT_NE(std::string(err.what()).find("malformed ensemble state /bad"), std::string::npos) << err.what();
+    EXPECT_NE(std::string(err.what()).find("malformed ensemble state /bad"), std::string::npos)
+        << err.what();
   }
 }

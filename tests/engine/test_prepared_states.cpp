@@ -55,13 +55,20 @@ Config prepared_config(const Prepared& k, std::uint64_t n, std::uint64_t N, std:
                        const std::vector<std::string>& extra = {}) {
   // nu = |S^{d-1}| gamma C = 1.
   const double C = k.d == 3 ? 1 / (4 * M_PI) : 1 / (2 * M_PI);
-  std::vector<std::string> sets = {
-      "model=dsmc", "seed=" + std::to_string(seed), "ensembles=" + std::to_string(N),
-      "dsmc.particles=" + std::to_string(n), "dsmc.dimension=" + std::to_string(k.d),
-      "dsmc.geometry=uniform", "dsmc.alpha=" + format_real(k.alpha), "dsmc.beta=0",
-      "dsmc.thermostat=" + k.thermostat,
-      "dsmc.gamma=1", "dsmc.kernel.lambda=0", "dsmc.kernel.C=" + format_real(C),
-      "dsmc.t_end=4", "dsmc.observe_every=0.5"};
+  std::vector<std::string> sets = {"model=dsmc",
+                                   "seed=" + std::to_string(seed),
+                                   "ensembles=" + std::to_string(N),
+                                   "dsmc.particles=" + std::to_string(n),
+                                   "dsmc.dimension=" + std::to_string(k.d),
+                                   "dsmc.geometry=uniform",
+                                   "dsmc.alpha=" + format_real(k.alpha),
+                                   "dsmc.beta=0",
+                                   "dsmc.thermostat=" + k.thermostat,
+                                   "dsmc.gamma=1",
+                                   "dsmc.kernel.lambda=0",
+                                   "dsmc.kernel.C=" + format_real(C),
+                                   "dsmc.t_end=4",
+                                   "dsmc.observe_every=0.5"};
   if (!k.T.empty()) sets.push_back("dsmc.initial.temperature=" + matrix_text(k.T, k.d));
   sets.insert(sets.end(), extra.begin(), extra.end());
   return parse_config("{}", "test", sets);
@@ -105,13 +112,13 @@ void expect_heat_flux_relaxation(const Prepared& k, const std::vector<double>& q
                                  std::uint64_t N, std::uint64_t seed) {
   std::string q = "[";
   for (int a = 0; a < k.d; ++a) q += (a ? ", " : "") + format_real(q0[a]);
-  const test::DsmcRun r(
-      prepared_config(k, n, N, seed, {"dsmc.initial.heat_flux=" + q + "]"}));
+  const test::DsmcRun r(prepared_config(k, n, N, seed, {"dsmc.initial.heat_flux=" + q + "]"}));
   const bool gaussian = k.thermostat == "gaussian";
   const double rate = heat_flux_rate(k.d, k.alpha, gaussian), nn = static_cast<double>(n);
   // E[q(0)] of the centred sample (third central moment); with the Gaussian fold the leading
   // factor of E[q/T^{3/2}] T0^{3/2}.
-  const double start = gaussian ? (1 - 2 / nn) / std::sqrt(1 - 1 / nn) : (1 - 1 / nn) * (1 - 2 / nn);
+  const double start =
+      gaussian ? (1 - 2 / nn) / std::sqrt(1 - 1 / nn) : (1 - 1 / nn) * (1 - 2 / nn);
   const double z = test::family_z(static_cast<int>(r.times.size()) * k.d);
   for (std::size_t m = 0; m < r.times.size(); ++m)
     for (int a = 0; a < k.d; ++a) {
@@ -169,10 +176,9 @@ TEST(PreparedStates, GeneralGasRelaxesAtTheSameRate) {
 }
 
 TEST(PreparedStates, TemperatureMatrixIsCheckedAndStoredOnlyWhenWritten) {
-  const std::vector<std::string> base = {"model=dsmc", "seed=1", "ensembles=1",
-                                         "dsmc.particles=10", "dsmc.alpha=0.5",
-                                         "dsmc.beta=0", "dsmc.kernel.lambda=0", "dsmc.kernel.C=1",
-                                         "dsmc.t_end=1"};
+  const std::vector<std::string> base = {"model=dsmc",           "seed=1",          "ensembles=1",
+                                         "dsmc.particles=10",    "dsmc.alpha=0.5",  "dsmc.beta=0",
+                                         "dsmc.kernel.lambda=0", "dsmc.kernel.C=1", "dsmc.t_end=1"};
   auto with = [&](const std::string& set) {
     auto sets = base;
     sets.push_back(set);
@@ -239,9 +245,9 @@ TEST(PreparedStates, SkewedStateHasItsHeatFluxAndMaxwellianEvenMoments) {
 }
 
 TEST(PreparedStates, HeatFluxBeyondAPositiveDensityIsRefused) {
-  const std::vector<std::string> base = {"model=dsmc", "seed=1", "ensembles=1", "dsmc.particles=10",
-                                         "dsmc.alpha=0.5", "dsmc.beta=0", "dsmc.kernel.lambda=0",
-                                         "dsmc.kernel.C=1", "dsmc.t_end=1"};
+  const std::vector<std::string> base = {"model=dsmc",           "seed=1",          "ensembles=1",
+                                         "dsmc.particles=10",    "dsmc.alpha=0.5",  "dsmc.beta=0",
+                                         "dsmc.kernel.lambda=0", "dsmc.kernel.C=1", "dsmc.t_end=1"};
   auto message = [&](std::vector<std::string> sets) -> std::string {
     sets.insert(sets.begin(), base.begin(), base.end());
     try {

@@ -2,7 +2,6 @@
 // the collision with a law (exact per collision), its equivalence in law with impact normals,
 // free cooling T ~ t^(-5/3), the elastic limit, config handling, and bit-reproducible runs.
 #include <gtest/gtest.h>
-
 #include <signal.h>
 #include <sys/wait.h>
 
@@ -15,6 +14,7 @@
 #include <variant>
 #include <vector>
 
+#include "configs.hpp"
 #include "granboltz/app/config.hpp"
 #include "granboltz/app/estimate.hpp"
 #include "granboltz/dsmc/ensemble.hpp"
@@ -24,7 +24,6 @@
 #include "granboltz/physics/restitution/collide.hpp"
 #include "granboltz/random/rng.hpp"
 #include "granboltz/random/samplers.hpp"
-#include "configs.hpp"
 #include "test_support.hpp"
 
 using namespace granboltz;
@@ -87,7 +86,8 @@ double ks(std::vector<double> a, std::vector<double> b) {
     const double x = std::min(a[i], b[j]);
     while (i < a.size() && a[i] <= x) ++i;
     while (j < b.size() && b[j] <= x) ++j;
-    d = std::max(d, std::fabs(static_cast<double>(i) / a.size() - static_cast<double>(j) / b.size()));
+    d = std::max(d,
+                 std::fabs(static_cast<double>(i) / a.size() - static_cast<double>(j) / b.size()));
   }
   return d;
 }
@@ -114,7 +114,7 @@ TEST(Restitution, ViscoelasticEpsIsTheSeriesUpToItsMinimumAndHeldAtSevenTwelfths
     if (x < Visco::kXHold)
       ASSERT_NEAR(eps, series(x), 4 * DBL_EPSILON) << "x = " << x;
     else
-      ASSERT_EQ(eps, 7.0 / 12.0) << "x = " << x;  // held: the series would rise back to 1
+      ASSERT_EQ(eps, 7.0 / 12.0) << "x = " << x;      // held: the series would rise back to 1
     ASSERT_LE(eps, previous + 1e-16) << "x = " << x;  // non-increasing, so continuous at x*
     ASSERT_GE(eps, 7.0 / 12.0);
     previous = eps;
@@ -125,7 +125,8 @@ TEST(Restitution, ViscoelasticEpsIsTheSeriesUpToItsMinimumAndHeldAtSevenTwelfths
   const Visco law{0.3};
   for (double g : {1e-6, 0.01, 0.5, 1.0, 7.0, 300.0})
     EXPECT_NEAR(law.eps_of_g2(g * g), series(std::min(0.3 * std::pow(g, 0.2), Visco::kXHold)),
-                1e-14) << "g_n = " << g;
+                1e-14)
+        << "g_n = " << g;
   EXPECT_EQ(Visco{0.0}.eps_of_g2(4.0), 1.0);
 }
 
@@ -225,8 +226,8 @@ TEST(Restitution, UniformDirectionIsTheImpactNormalLawInDistribution) {
   const Vec3 u = v0 - w0, uh = unit(u);
   const Vec3 t1 = unit(cross(uh, Vec3{1.0, 0.0, 0.0})), t2 = cross(uh, t1);
   const int m = 100000;
-  for (const RestitutionLaw law : {RestitutionLaw{ConstantRestitution{0.4}},
-                                   RestitutionLaw{Visco{0.6}}}) {
+  for (const RestitutionLaw law :
+       {RestitutionLaw{ConstantRestitution{0.4}}, RestitutionLaw{Visco{0.6}}}) {
     std::vector<double> ax, ay, bx, by;
     for (int i = 0; i < m; ++i) {
       Vec3 v = v0, w = w0;
@@ -256,9 +257,11 @@ TEST(Restitution, DeltaZeroIsTheElasticRunBitForBit) {
   TempDir dir;
   const std::string cfg = dir.write("c.yaml", kFree), a = dir.file("a.h5"), b = dir.file("b.h5");
   expect_ok(run_granboltz("run " + cfg + " -q --set dsmc.restitution.delta=0 -o " + a));
-  const std::string elastic = dir.write("e.yaml", std::string(kFree).replace(
-      std::string(kFree).find("restitution: {law: viscoelastic, delta: 0.05}"),
-      std::string("restitution: {law: viscoelastic, delta: 0.05}").size(), "alpha: 1"));
+  const std::string elastic = dir.write(
+      "e.yaml",
+      std::string(kFree).replace(
+          std::string(kFree).find("restitution: {law: viscoelastic, delta: 0.05}"),
+          std::string("restitution: {law: viscoelastic, delta: 0.05}").size(), "alpha: 1"));
   expect_ok(run_granboltz("run " + elastic + " -q -o " + b));
   H5Reader ra(a), rb(b);
   const auto names = ra.datasets();
@@ -293,8 +296,8 @@ TEST(Restitution, ViscoelasticFreeCoolingFollowsTheFiveThirdsLaw) {
   // as T^(1/10)), besides the 99.9 % interval from the ensembles.
   const int ensembles = 16;
   const double t1 = 3000.0, t2 = 30000.0, delta = 0.05;
-  const Config c = parse_config(kFree, "c.yaml",
-                                {"dsmc.particles=1000", "dsmc.t_end=30000", "dsmc.observe_every=30000"});
+  const Config c = parse_config(
+      kFree, "c.yaml", {"dsmc.particles=1000", "dsmc.t_end=30000", "dsmc.observe_every=30000"});
   std::vector<double> times;
   for (int k = 0; k <= 10; ++k) times.push_back(t1 * std::pow(t2 / t1, k / 10.0));
   const auto slope_of = [&](const std::vector<double>& lnT) {
@@ -360,10 +363,10 @@ TEST(Restitution, ViscoelasticFreeCoolingFollowsTheFiveThirdsLaw) {
   const double slope_ode = slope_of(ode);
   std::printf("viscoelastic free cooling: slope %.4f +- %.4f (se), moment equation %.4f\n", mean,
               se, slope_ode);
-  EXPECT_NEAR(slope_ode, -5.0 / 3.0, 0.02);                 // the t^(-5/3) law at these times
-  EXPECT_NEAR(mean, slope_ode, 3.29 * se + 0.01);           // DSMC against it
-  EXPECT_NEAR(mean, -5.0 / 3.0, 3.29 * se + 0.03);          // and against the law itself
-  EXPECT_GT(mean, -1.9);                                    // clearly not Haff's -2
+  EXPECT_NEAR(slope_ode, -5.0 / 3.0, 0.02);         // the t^(-5/3) law at these times
+  EXPECT_NEAR(mean, slope_ode, 3.29 * se + 0.01);   // DSMC against it
+  EXPECT_NEAR(mean, -5.0 / 3.0, 3.29 * se + 0.03);  // and against the law itself
+  EXPECT_GT(mean, -1.9);                            // clearly not Haff's -2
 }
 
 TEST(Restitution, ConfigReadsEmitsAndRefusesInOneLine) {
@@ -387,8 +390,9 @@ TEST(Restitution, ConfigReadsEmitsAndRefusesInOneLine) {
     return test::config_error(base, sets);
   };
   EXPECT_EQ(error({"dsmc.restitution.delta=-0.1"}), "dsmc.restitution.delta = -0.1: must be >= 0");
-  EXPECT_EQ(error({"dsmc.alpha=0.5"}),
-            "dsmc.restitution: given with dsmc.alpha; give one of them (alpha is the constant law)");
+  EXPECT_EQ(
+      error({"dsmc.alpha=0.5"}),
+      "dsmc.restitution: given with dsmc.alpha; give one of them (alpha is the constant law)");
   EXPECT_EQ(error({"dsmc.restitution.law=plastic"}),
             "dsmc.restitution.law = plastic: must be one of constant, viscoelastic");
   EXPECT_EQ(error({"dsmc.restitution={law: constant, alpha: 0}"}),
@@ -432,7 +436,8 @@ TEST(Restitution, EstimateRunsAndFollowsTheLawsCooling) {
   const RunEstimate e = estimate_run(free, 1);
   EXPECT_TRUE(std::isfinite(e.collisions) && e.collisions > 0.0);
   // Cooling slows the collisions of hard spheres: fewer than at delta = 0 (elastic).
-  const RunEstimate elastic = estimate_run(parse_config(kFree, "c.yaml", {"dsmc.restitution.delta=0"}), 1);
+  const RunEstimate elastic =
+      estimate_run(parse_config(kFree, "c.yaml", {"dsmc.restitution.delta=0"}), 1);
   EXPECT_LT(e.collisions, elastic.collisions);
 }
 
@@ -450,7 +455,8 @@ TEST(Restitution, ThreadsShardsAndCheckpointsGiveTheSameBits) {
   // An ensemble saved at an observation and restored continues bit for bit (Gaussian: the lazy
   // scale's state; eps is taken at the true speeds on both sides).
   for (const std::vector<std::string> sets :
-       {std::vector<std::string>{}, std::vector<std::string>{"dsmc.thermostat=gaussian", "dsmc.beta=0"}}) {
+       {std::vector<std::string>{},
+        std::vector<std::string>{"dsmc.thermostat=gaussian", "dsmc.beta=0"}}) {
     const Config c = parse_config(kHeated, "c.yaml", sets);
     test::expect_restored_ensemble_continues_identically(c.dsmc, 11, 3, 1.0, 2.0);
   }
@@ -510,7 +516,8 @@ TEST(Restitution, WeightedCollisionWithALawConservesMassMomentumAndLosesItsEnerg
   weighted_collide(q, h, 0, 1, e, 0.7, 0.25, 2.0);
   ASSERT_EQ(p.size(), q.size());
   for (std::size_t k = 0; k < p.size(); ++k)
-    EXPECT_TRUE(p[k].v.x == q[k].v.x && p[k].v.y == q[k].v.y && p[k].v.z == q[k].v.z && g[k] == h[k]);
+    EXPECT_TRUE(p[k].v.x == q[k].v.x && p[k].v.y == q[k].v.y && p[k].v.z == q[k].v.z &&
+                g[k] == h[k]);
 }
 
 TEST(Restitution, WeightedParticlesCoolAsConstantWeightsWithTheLaw) {
@@ -530,7 +537,8 @@ TEST(Restitution, WeightedParticlesCoolAsConstantWeightsWithTheLaw) {
     expect_ok(run_granboltz("run " + cfg + extra + " -q -o " + a));
     expect_ok(run_granboltz("run " + cfg + extra +
                             " --set dsmc.majorant=global --set 'dsmc.weights={method: swpm, "
-                            "kappa: 1, max_particles: 1200}' -q -o " + b));
+                            "kappa: 1, max_particles: 1200}' -q -o " +
+                            b));
     H5Reader ra(a), rb(b);
     const bool steady = extra.find("steady_from") != std::string::npos;
     const std::string g = steady ? "/steady/temperature" : "/temperature";
@@ -540,7 +548,7 @@ TEST(Restitution, WeightedParticlesCoolAsConstantWeightsWithTheLaw) {
     std::printf("viscoelastic %s T: constant weights %.5f +- %.5f, SWPM %.5f +- %.5f\n",
                 steady ? "steady" : "free-cooling", x, ca.back(), y, cb.back());
     EXPECT_NEAR(x, y, tol);
-    EXPECT_LT(tol, 0.05 * x);  // the test can fail: intervals of a few per cent
+    EXPECT_LT(tol, 0.05 * x);            // the test can fail: intervals of a few per cent
     EXPECT_LT(x, steady ? 10.0 : 0.99);  // and the law cooled the gas
   }
 }

@@ -17,7 +17,9 @@ using namespace granboltz;
 
 namespace {
 
-double wn_a2(double a) { return 2 * std::pow(1 - a, 2) * (1 + a) / (13 - 9 * a + a * a - a * a * a); }
+double wn_a2(double a) {
+  return 2 * std::pow(1 - a, 2) * (1 + a) / (13 - 9 * a + a * a - a * a * a);
+}
 double wn_a3(double a) {
   return -8 * std::pow(1 - a, 3) * std::pow(1 + a, 2) * (10 - 8 * a + a * a - a * a * a) /
          ((13 - 9 * a + a * a - a * a * a) *
@@ -90,8 +92,8 @@ TEST(SonineExact, HardSpheresUnderWhiteNoiseAgreeWithFirstSonine) {
   // error is allowed as 5 % of a2 beside the interval. alpha = 0.5 keeps a2 away from its zero
   // at 1/sqrt(2).
   const double a = 0.5;
-  const double first = 16 * (1 - a) * (1 - 2 * a * a) /
-                       (73 + 56 * 3 - 3 * a * (35 + 8 * 3) + 30 * a * a * (1 - a));
+  const double first =
+      16 * (1 - a) * (1 - 2 * a * a) / (73 + 56 * 3 - 3 * a * (35 + 8 * 3) + 30 * a * a * (1 - a));
   const Steady s = run({"dsmc.alpha=0.5", "dsmc.kernel.lambda=1"});
   EXPECT_NEAR(s.a2, first, s.a2_ci + 0.05 * first + 2.0 / kParticles * (1 + first));
 }

@@ -56,9 +56,9 @@ Coverage coverage(std::uint64_t ensembles, int replicas) {
   std::vector<double> T, M4, sT, sM4, iT, iM4;
   Coverage c;
   for (int seed = 1; seed <= replicas; ++seed) {
-    const Config config = parse_config(kHeated, "test.yaml",
-                                       {"seed=" + std::to_string(seed),
-                                        "ensembles=" + std::to_string(ensembles)});
+    const Config config =
+        parse_config(kHeated, "test.yaml",
+                     {"seed=" + std::to_string(seed), "ensembles=" + std::to_string(ensembles)});
     Config independent = config;
     independent.dsmc.steady_ci_independent = true;
     test::DsmcRun run(config);
@@ -150,9 +150,8 @@ TEST(SteadyCi, MergedShardsGiveTheSameSteadyIntervals) {
   const std::string cfg = dir.write("c.yaml", kHeated);
   for (const std::string n : {"4", "12"}) {  // blocking and ensembles
     const std::string one = dir.file("one" + n + ".h5");
-    ASSERT_EQ(test::run_granboltz("run " + cfg + " -q --set ensembles=" + n + " -o " + one)
-                  .exit_code,
-              0);
+    ASSERT_EQ(
+        test::run_granboltz("run " + cfg + " -q --set ensembles=" + n + " -o " + one).exit_code, 0);
     std::string shards;
     for (int s = 0; s < 3; ++s) {
       const std::string path = dir.file("s" + n + "_" + std::to_string(s) + ".h5");
@@ -167,7 +166,8 @@ TEST(SteadyCi, MergedShardsGiveTheSameSteadyIntervals) {
     ASSERT_EQ(test::run_granboltz("merge " + shards + "-o " + merged).exit_code, 0);
     test::expect_identical_outputs(one, merged);
     H5Reader m(merged);
-    EXPECT_EQ(m.attr_string("/steady/temperature", "estimator"), n == "4" ? "blocking" : "ensembles");
+    EXPECT_EQ(m.attr_string("/steady/temperature", "estimator"),
+              n == "4" ? "blocking" : "ensembles");
   }
 }
 
@@ -183,8 +183,8 @@ TEST(SteadyCi, ConfigWithoutSteadyFromIsUnchangedAndSteadyCiNeedsIt) {
   EXPECT_THROW(r.moments("steady"), std::out_of_range);
   EXPECT_EQ(test::config_error(base + ", steady_ci: batch}\n"),
             "dsmc.steady_ci: needs dsmc.steady_from (the steady-state window)");
-  EXPECT_NE(test::config_error(base + ", steady_from: 0.5, steady_ci: pooled}\n").find(
-                "dsmc.steady_ci = pooled: must be one of batch, independent"),
+  EXPECT_NE(test::config_error(base + ", steady_from: 0.5, steady_ci: pooled}\n")
+                .find("dsmc.steady_ci = pooled: must be one of batch, independent"),
             std::string::npos);
   const Config batch = parse_config(base + ", steady_from: 0.5}\n", "test.yaml");
   EXPECT_FALSE(batch.dsmc.steady_ci_independent);  // the honest interval by default
@@ -255,9 +255,10 @@ TEST(SonineCoefficients, AbsentWithoutEnoughMomentsAndFromEnsemblesWhateverStead
   test::TempDir dir;
   const std::string cfg = dir.write("c.yaml", kHeated);
   const std::string one = dir.file("one.h5"), two = dir.file("two.h5"), ind = dir.file("i.h5");
-  ASSERT_EQ(test::run_granboltz("run " + cfg + " -q --set ensembles=2 --set dsmc.moments=1 -o " + one)
-                .exit_code,
-            0);
+  ASSERT_EQ(
+      test::run_granboltz("run " + cfg + " -q --set ensembles=2 --set dsmc.moments=1 -o " + one)
+          .exit_code,
+      0);
   ASSERT_EQ(test::run_granboltz("run " + cfg + " -q --set ensembles=2 -o " + two).exit_code, 0);
   ASSERT_EQ(test::run_granboltz("run " + cfg +
                                 " -q --set ensembles=2 --set dsmc.steady_ci=independent -o " + ind)

@@ -20,7 +20,9 @@ namespace {
 constexpr int kTemperature = 4;
 
 // Round-off bound for sums of n terms of size ~scale.
-double roundoff(double scale, std::size_t n) { return 64.0 * 0x1p-52 * scale * static_cast<double>(n); }
+double roundoff(double scale, std::size_t n) {
+  return 64.0 * 0x1p-52 * scale * static_cast<double>(n);
+}
 
 void expect_near3(const Vec3& a, const Vec3& b, double tol, const char* what) {
   EXPECT_NEAR(a.x, b.x, tol) << what;
@@ -56,12 +58,18 @@ constexpr double kRw05Moments[5] = {8.0, 8000.0 / 69.0, 332864000.0 / 129789.0,
 // its final speed moments M_2 ... M_2P must lie within the family-wise intervals of the exact ones.
 void expect_rw05_steady_moments(const std::string& seed, int P, std::vector<std::string> extra) {
   const std::uint64_t N = 60;
-  std::vector<std::string> s = {"model=dsmc", "seed=" + seed, "ensembles=" + std::to_string(N),
-                                "dsmc.particles=1000", "dsmc.alpha=0.5", "dsmc.beta=1",
-                                "dsmc.gamma=1", "dsmc.kernel.lambda=0",
+  std::vector<std::string> s = {"model=dsmc",
+                                "seed=" + seed,
+                                "ensembles=" + std::to_string(N),
+                                "dsmc.particles=1000",
+                                "dsmc.alpha=0.5",
+                                "dsmc.beta=1",
+                                "dsmc.gamma=1",
+                                "dsmc.kernel.lambda=0",
                                 "dsmc.kernel.C=" + format_real(1 / M_PI),
                                 "dsmc.initial.temperature=" + format_real(8.0 / 3.0),
-                                "dsmc.t_end=4", "dsmc.moments=" + std::to_string(P)};
+                                "dsmc.t_end=4",
+                                "dsmc.moments=" + std::to_string(P)};
   s.insert(s.end(), extra.begin(), extra.end());
   const test::DsmcRun r(parse_config("{}", "test", s));
   const double z = test::family_z(P);
@@ -196,9 +204,10 @@ TEST(WeightedEnsemble, RealCollisionRateIsOnePlusKappaTimesMaxWeightTimesTheKern
   // collision after t1 comes at rate R = sum_{i<j} (1 + kappa) max(g_i, g_j) 4 pi gamma C |u_ij|,
   // exactly. So P(no collision in (t1, t1 + h]) = E[exp(-R h)], checked over N ensembles.
   const Config cfg = parse_config("{}", "test", [] {
-    std::vector<std::string> s = {"model=dsmc", "seed=5", "ensembles=1", "dsmc.particles=24",
-                                  "dsmc.alpha=0.6", "dsmc.beta=0", "dsmc.gamma=1",
-                                  "dsmc.kernel.lambda=1", "dsmc.kernel.C=0.1", "dsmc.t_end=1"};
+    std::vector<std::string> s = {
+        "model=dsmc",        "seed=5",      "ensembles=1",  "dsmc.particles=24",
+        "dsmc.alpha=0.6",    "dsmc.beta=0", "dsmc.gamma=1", "dsmc.kernel.lambda=1",
+        "dsmc.kernel.C=0.1", "dsmc.t_end=1"};
     for (auto& x : swpm_sets("1", 100000)) s.push_back(x);
     return s;
   }());
@@ -213,7 +222,8 @@ TEST(WeightedEnsemble, RealCollisionRateIsOnePlusKappaTimesMaxWeightTimesTheKern
     const auto& g = w.weights();
     double R = 0.0;
     for (std::size_t i = 0; i < p.size(); ++i)
-      for (std::size_t j = i + 1; j < p.size(); ++j) R += K * std::max(g[i], g[j]) * norm(p[i].v - p[j].v);
+      for (std::size_t j = i + 1; j < p.size(); ++j)
+        R += K * std::max(g[i], g[j]) * norm(p[i].v - p[j].v);
     const double h = 0.5 / R * (1.0 + static_cast<double>(e % 4));  // several probabilities
     const std::uint64_t c0 = w.counts().collisions;
     w.advance_to(0.3 + h);
@@ -229,11 +239,18 @@ TEST(WeightedEnsemble, KappaZeroGivesTheConstantWeightStatistics) {
   // Hard spheres with heating (GRW05 Ex. 5 like): SWPM with kappa = 0, equal initial weights and
   // no reduction is ordinary DSMC in law: T(t) and the histogram agree within the confidence of
   // the difference of two independent means.
-  std::vector<std::string> base = {"model=dsmc", "ensembles=600", "dsmc.particles=64",
-                                   "dsmc.alpha=0.5", "dsmc.beta=1", "dsmc.gamma=1",
-                                   "dsmc.kernel.lambda=1", "dsmc.kernel.C=" + format_real(1 / (4 * M_PI)),
-                                   "dsmc.t_end=2", "dsmc.observe_every=0.5",
-                                   "dsmc.histogram.shells=8", "dsmc.histogram.radius=6"};
+  std::vector<std::string> base = {"model=dsmc",
+                                   "ensembles=600",
+                                   "dsmc.particles=64",
+                                   "dsmc.alpha=0.5",
+                                   "dsmc.beta=1",
+                                   "dsmc.gamma=1",
+                                   "dsmc.kernel.lambda=1",
+                                   "dsmc.kernel.C=" + format_real(1 / (4 * M_PI)),
+                                   "dsmc.t_end=2",
+                                   "dsmc.observe_every=0.5",
+                                   "dsmc.histogram.shells=8",
+                                   "dsmc.histogram.radius=6"};
   auto a = base, b = base;
   a.push_back("seed=11");
   b.push_back("seed=12");
@@ -256,7 +273,8 @@ TEST(WeightedEnsemble, KappaZeroGivesTheConstantWeightStatistics) {
       const double f = static_cast<double>(counts[i]) / (64 * N);
       const double vf = static_cast<double>(sq[i]) / (64.0 * 64 * N) - f * f;
       const MeanCi s = hw[i].stats(600);
-      EXPECT_NEAR(f, s.mean, z * std::sqrt((vf + s.variance) / N) + 1e-12) << "m=" << m << " k=" << k;
+      EXPECT_NEAR(f, s.mean, z * std::sqrt((vf + s.variance) / N) + 1e-12)
+          << "m=" << m << " k=" << k;
     }
 }
 
@@ -266,10 +284,17 @@ TEST(WeightedEnsemble, MaxwellTemperatureFollowsEquation16WithReductions) {
   // energy balance is that of eq. (16) up to the O(sum g^2) = O(1/n) bulk term, here below a
   // seventh of the confidence half-width (n = 1000, n_eff = 1/sum g^2 ~ 450, N = 80).
   const Config cfg = parse_config("{}", "test", [] {
-    std::vector<std::string> s = {"model=dsmc", "seed=21", "ensembles=80", "dsmc.particles=1000",
-                                  "dsmc.alpha=0.5", "dsmc.beta=1", "dsmc.gamma=4",
-                                  "dsmc.kernel.lambda=0", "dsmc.kernel.C=" + format_real(1 / (4 * M_PI)),
-                                  "dsmc.t_end=2", "dsmc.observe_every=0.5"};
+    std::vector<std::string> s = {"model=dsmc",
+                                  "seed=21",
+                                  "ensembles=80",
+                                  "dsmc.particles=1000",
+                                  "dsmc.alpha=0.5",
+                                  "dsmc.beta=1",
+                                  "dsmc.gamma=4",
+                                  "dsmc.kernel.lambda=0",
+                                  "dsmc.kernel.C=" + format_real(1 / (4 * M_PI)),
+                                  "dsmc.t_end=2",
+                                  "dsmc.observe_every=0.5"};
     for (auto& x : swpm_sets("1", 2000)) s.push_back(x);
     return s;
   }());
@@ -313,7 +338,8 @@ TEST(WeightedSplit, CopiesKeepEveryMomentAndRouletteKeepsTheMass) {
   std::size_t heavy = 0, light = 0, expected_copies = 0;
   for (std::size_t i = 1; i < p.size(); ++i) {
     const double target = split_target(spec, g_ref, norm(p[i].v));
-    if (g[i] > 2 * target) ++heavy, expected_copies += std::min(std::floor(g[i] / target), 16.0) - 1;
+    if (g[i] > 2 * target)
+      ++heavy, expected_copies += std::min(std::floor(g[i] / target), 16.0) - 1;
     if (g[i] < 0.25 * target) ++light;
   }
   ASSERT_GT(heavy, 40u);
@@ -397,11 +423,18 @@ TEST(WeightedEnsemble, HardSphereSteadyTemperatureAndA2MatchConstantWeights) {
   // The O(1/n_eff) bias of the weighted system (n_eff = 1/sum g^2 ~ 200) is far below that.
   const std::uint64_t N = 40;
   auto config = [&](const std::string& seed, bool swpm) {
-    std::vector<std::string> s = {"model=dsmc", "seed=" + seed, "ensembles=" + std::to_string(N),
-                                  "dsmc.particles=500", "dsmc.alpha=0.5", "dsmc.beta=1",
-                                  "dsmc.gamma=1", "dsmc.kernel.lambda=1",
-                                  "dsmc.kernel.C=" + format_real(1 / (4 * M_PI)), "dsmc.t_end=3",
-                                  "dsmc.observe_every=3", "dsmc.moments=2"};
+    std::vector<std::string> s = {"model=dsmc",
+                                  "seed=" + seed,
+                                  "ensembles=" + std::to_string(N),
+                                  "dsmc.particles=500",
+                                  "dsmc.alpha=0.5",
+                                  "dsmc.beta=1",
+                                  "dsmc.gamma=1",
+                                  "dsmc.kernel.lambda=1",
+                                  "dsmc.kernel.C=" + format_real(1 / (4 * M_PI)),
+                                  "dsmc.t_end=3",
+                                  "dsmc.observe_every=3",
+                                  "dsmc.moments=2"};
     if (swpm)
       for (auto& x : swpm_sets("1", 1000)) s.push_back(x);
     return parse_config("{}", "test", s);
@@ -415,7 +448,8 @@ TEST(WeightedEnsemble, HardSphereSteadyTemperatureAndA2MatchConstantWeights) {
   const double dM = z * std::sqrt((Mc.variance + Mw.variance) / static_cast<double>(N));
   EXPECT_NEAR(Tw.mean, Tc.mean, dT) << "steady T";
   EXPECT_NEAR(Mw.mean, Mc.mean, dM) << "steady M_4";
-  const double a2c = Mc.mean / (15 * Tc.mean * Tc.mean) - 1, a2w = Mw.mean / (15 * Tw.mean * Tw.mean) - 1;
+  const double a2c = Mc.mean / (15 * Tc.mean * Tc.mean) - 1,
+               a2w = Mw.mean / (15 * Tw.mean * Tw.mean) - 1;
   EXPECT_NEAR(a2w, a2c, (1 + a2c) * (dM / Mc.mean + 2 * dT / Tc.mean)) << "steady a2";
   double reductions = 0;
   for (double x : w.record.column("/events/reductions")) reductions += x;
@@ -423,8 +457,8 @@ TEST(WeightedEnsemble, HardSphereSteadyTemperatureAndA2MatchConstantWeights) {
 }
 
 TEST(WeightedConfig, BadWeightsKeysGiveOneLineErrors) {
-  const std::vector<std::string> base = {"model=dsmc", "seed=1", "dsmc.particles=10",
-                                         "dsmc.alpha=1", "dsmc.beta=1", "dsmc.kernel.lambda=0",
+  const std::vector<std::string> base = {"model=dsmc",      "seed=1",      "dsmc.particles=10",
+                                         "dsmc.alpha=1",    "dsmc.beta=1", "dsmc.kernel.lambda=0",
                                          "dsmc.kernel.C=1", "dsmc.t_end=1"};
   auto with = [&](std::vector<std::string> extra) {
     auto s = base;
@@ -467,12 +501,14 @@ TEST(WeightedConfig, BadWeightsKeysGiveOneLineErrors) {
   for (const char* r : {"energy", "heat_flux"}) {
     const std::string msg = with(swpm_sets("1", 100, r));
     EXPECT_NE(msg.find(std::string("dsmc.weights.reduction = ") + r + ": its merges bias the bulk"),
-              std::string::npos) << msg;
+              std::string::npos)
+        << msg;
     EXPECT_NE(msg.find("without split"), std::string::npos) << msg;
     auto sr = split;
     sr.pop_back();
     for (auto& x : sr)
-      if (x.rfind("dsmc.weights.reduction=", 0) == 0) x = std::string("dsmc.weights.reduction=") + r;
+      if (x.rfind("dsmc.weights.reduction=", 0) == 0)
+        x = std::string("dsmc.weights.reduction=") + r;
     EXPECT_EQ(with(sr), "") << r;
     sr.push_back("dsmc.thermostat=gaussian");
     sr.push_back("dsmc.beta=0");
@@ -480,8 +516,10 @@ TEST(WeightedConfig, BadWeightsKeysGiveOneLineErrors) {
   }
   auto mw = swpm_sets("1", 100);
   mw.push_back("dsmc.weights.min_weight=0.5");
-  EXPECT_NE(with(mw).find("dsmc.weights.min_weight = 0.5: must satisfy 1e-200 <= min_weight <= 1e-3"),
-            std::string::npos) << with(mw);
+  EXPECT_NE(
+      with(mw).find("dsmc.weights.min_weight = 0.5: must satisfy 1e-200 <= min_weight <= 1e-3"),
+      std::string::npos)
+      << with(mw);
   mw.back() = "dsmc.weights.min_weight=1e-10";
   EXPECT_EQ(with(mw), "");
   mw = split;
@@ -489,7 +527,8 @@ TEST(WeightedConfig, BadWeightsKeysGiveOneLineErrors) {
   for (auto& x : mw)
     if (x.rfind("dsmc.weights.reduction=", 0) == 0) x = "dsmc.weights.reduction=energy";
   mw.push_back("dsmc.weights.min_weight=1e-10");
-  EXPECT_NE(with(mw).find("dsmc.weights.min_weight: only with reduction: unbiased"), std::string::npos)
+  EXPECT_NE(with(mw).find("dsmc.weights.min_weight: only with reduction: unbiased"),
+            std::string::npos)
       << with(mw);
 }
 
@@ -502,9 +541,10 @@ TEST(WeightedEnsemble, SavedAndRestoredMidRunContinuesBitForBit) {
   for (const int variant : {0, 1, 2}) {
     const bool split = variant >= 1, gaussian = variant == 2;
     const Config cfg = parse_config("{}", "test", [&] {
-      std::vector<std::string> s = {"model=dsmc", "seed=41", "ensembles=1", "dsmc.particles=200",
-                                    "dsmc.alpha=0.5", "dsmc.beta=1", "dsmc.gamma=1",
-                                    "dsmc.kernel.lambda=1", "dsmc.kernel.C=0.1", "dsmc.t_end=2"};
+      std::vector<std::string> s = {
+          "model=dsmc",        "seed=41",     "ensembles=1",  "dsmc.particles=200",
+          "dsmc.alpha=0.5",    "dsmc.beta=1", "dsmc.gamma=1", "dsmc.kernel.lambda=1",
+          "dsmc.kernel.C=0.1", "dsmc.t_end=2"};
       if (gaussian) s.insert(s.end(), {"dsmc.thermostat=gaussian", "dsmc.beta=0"});
       for (auto& x : swpm_sets("2", 400, "unbiased")) s.push_back(x);
       if (split)
@@ -546,14 +586,16 @@ TEST(WeightedEnsemble, SavedAndRestoredMidRunContinuesBitForBit) {
 TEST(WeightedEnsemble, ShardsMergeAndThreadCountsGiveTheSameBits) {
   // Heated by white noise, and in the HCS (Gaussian thermostat, with its /steady/cooling_rate).
   for (const bool gaussian : {false, true}) {
-  test::TempDir dir;
-  const std::string cfg = dir.write("c.yaml", std::string(R"(model: dsmc
+    test::TempDir dir;
+    const std::string cfg =
+        dir.write("c.yaml", std::string(R"(model: dsmc
 seed: 12
 ensembles: 6
 dsmc:
   particles: 100
   alpha: 0.5
-)") + (gaussian ? "  beta: 0\n  thermostat: gaussian\n" : "  beta: 1\n") + R"(  kernel: {lambda: 1, C: 0.0795774715459477}
+)") + (gaussian ? "  beta: 0\n  thermostat: gaussian\n" : "  beta: 1\n") +
+                                R"(  kernel: {lambda: 1, C: 0.0795774715459477}
   t_end: 1
   observe_every: 0.25
   histogram: {shells: 10, radius: 8, component: true}
@@ -563,27 +605,29 @@ dsmc:
     method: swpm
     kappa: 1
     max_particles: 300
-)" + (gaussian ? "    reduction: unbiased\n" : "    reduction: heat_flux\n") + R"(    split: {radius: 3, rate: 1, interval: 0.05, max_radius: 8}
+)" + (gaussian ? "    reduction: unbiased\n" : "    reduction: heat_flux\n") +
+                                R"(    split: {radius: 3, rate: 1, interval: 0.05, max_radius: 8}
 )");
-  const std::string whole = dir.file("whole.h5"), one = dir.file("one.h5");
-  auto ok = [](const test::CommandResult& r) { ASSERT_EQ(r.exit_code, 0) << r.output; };
-  ok(test::run_granboltz("run " + cfg + " -q --threads 2 -o " + whole));
-  ok(test::run_granboltz("run " + cfg + " -q --threads 1 -o " + one));
-  test::expect_identical_outputs(whole, one);
-  std::string shards;
-  for (int i = 0; i < 3; ++i) {
-    const std::string s = dir.file("s" + std::to_string(i) + ".h5");
-    ok(test::run_granboltz("run " + cfg + " -q --set shard.count=3 --set shard.index=" +
-                           std::to_string(i) + " -o " + s));
-    shards = s + " " + shards;
-  }
-  const std::string merged = dir.file("merged.h5");
-  ok(test::run_granboltz("merge " + shards + "-o " + merged));
-  test::expect_identical_outputs(whole, merged);
-  H5Reader in(merged);
-  EXPECT_TRUE(in.exists("/accumulators/histogram_weight") && in.exists("/events/reductions") &&
-              in.exists("/steady/histogram/mean") && in.exists("/accumulators/histogram_steady"));
-  EXPECT_EQ(in.exists("/steady/cooling_rate/mean") && in.exists("/events/cooling_rate"), gaussian);
+    const std::string whole = dir.file("whole.h5"), one = dir.file("one.h5");
+    auto ok = [](const test::CommandResult& r) { ASSERT_EQ(r.exit_code, 0) << r.output; };
+    ok(test::run_granboltz("run " + cfg + " -q --threads 2 -o " + whole));
+    ok(test::run_granboltz("run " + cfg + " -q --threads 1 -o " + one));
+    test::expect_identical_outputs(whole, one);
+    std::string shards;
+    for (int i = 0; i < 3; ++i) {
+      const std::string s = dir.file("s" + std::to_string(i) + ".h5");
+      ok(test::run_granboltz("run " + cfg + " -q --set shard.count=3 --set shard.index=" +
+                             std::to_string(i) + " -o " + s));
+      shards = s + " " + shards;
+    }
+    const std::string merged = dir.file("merged.h5");
+    ok(test::run_granboltz("merge " + shards + "-o " + merged));
+    test::expect_identical_outputs(whole, merged);
+    H5Reader in(merged);
+    EXPECT_TRUE(in.exists("/accumulators/histogram_weight") && in.exists("/events/reductions") &&
+                in.exists("/steady/histogram/mean") && in.exists("/accumulators/histogram_steady"));
+    EXPECT_EQ(in.exists("/steady/cooling_rate/mean") && in.exists("/events/cooling_rate"),
+              gaussian);
   }
 }
 
@@ -694,9 +738,10 @@ std::pair<double, double> steady_a2(const std::string& thermostat, std::uint64_t
   std::string sets = " --set seed=" + std::to_string(seed);
   for (const auto& w : weights) sets += " --set " + w;
   const std::string heat = thermostat == "gaussian" ? "thermostat: gaussian, beta: 0" : "beta: 0.5";
-  const std::string cfg = dir.write("c.yaml", "model: dsmc\nseed: 1\nensembles: 40\ndsmc: {particles: 120, alpha: 0.6, " +
-                                                  heat + ", kernel: {lambda: 1, C: 0.07957747154594767}, t_end: 40, "
-                                                  "observe_every: 0.5, steady_from: 10, moments: 2}\n");
+  const std::string cfg = dir.write(
+      "c.yaml", "model: dsmc\nseed: 1\nensembles: 40\ndsmc: {particles: 120, alpha: 0.6, " + heat +
+                    ", kernel: {lambda: 1, C: 0.07957747154594767}, t_end: 40, "
+                    "observe_every: 0.5, steady_from: 10, moments: 2}\n");
   const std::string out = dir.file("o.h5");
   const auto r = test::run_granboltz("run " + cfg + " -q --threads 2 -o " + out + sets);
   EXPECT_EQ(r.exit_code, 0) << r.output;
@@ -717,9 +762,9 @@ TEST(WeightedEnsemble, WithoutSplitTheSteadyA2IsThatOfConstantWeights) {
   const double z = test::family_z(2) / 1.96;
   for (const std::string thermostat : {"gaussian", "white_noise"}) {
     const auto c = steady_a2(thermostat, 11, {});
-    const auto w = steady_a2(thermostat, 12,
-                             {"dsmc.weights.method=swpm", "dsmc.weights.kappa=0.25",
-                              "dsmc.weights.max_particles=360"});
+    const auto w = steady_a2(
+        thermostat, 12,
+        {"dsmc.weights.method=swpm", "dsmc.weights.kappa=0.25", "dsmc.weights.max_particles=360"});
     EXPECT_NEAR(w.first, c.first, z * std::hypot(c.second, w.second))
         << thermostat << ": swpm " << w.first << " +- " << w.second << ", constant " << c.first
         << " +- " << c.second;
@@ -733,9 +778,11 @@ TEST(WeightedEnsemble, SteadyRunsWithoutSplitReachLongTimes) {
   // count of events per unit time stays bounded (the last half costs about as many as the first).
   test::TempDir dir;
   for (const std::string heat : {"beta: 0.5", "thermostat: gaussian, beta: 0"}) {
-    const std::string cfg = dir.write("c.yaml", "model: dsmc\nseed: 3\nensembles: 2\ndsmc: {particles: 200, alpha: 0.6, " +
-                                                    heat + ", kernel: {lambda: 1, C: 0.07957747154594767}, t_end: 200, "
-                                                    "observe_every: 100, weights: {method: swpm, kappa: 0.25, max_particles: 600}}\n");
+    const std::string cfg = dir.write(
+        "c.yaml",
+        "model: dsmc\nseed: 3\nensembles: 2\ndsmc: {particles: 200, alpha: 0.6, " + heat +
+            ", kernel: {lambda: 1, C: 0.07957747154594767}, t_end: 200, "
+            "observe_every: 100, weights: {method: swpm, kappa: 0.25, max_particles: 600}}\n");
     const std::string half = dir.file("half.h5"), whole = dir.file("whole.h5");
     const auto a = test::run_granboltz("run " + cfg + " -q --threads 2 -o " + half +
                                        " --set dsmc.t_end=100 --set dsmc.observe_every=50");
@@ -797,8 +844,9 @@ dsmc:
 )");
   const std::string a = dir.file("a.h5"), b = dir.file("b.h5");
   ok(test::run_granboltz("run " + cfg + " -q -o " + a));
-  ok(test::run_granboltz("run " + cfg +
-                         " -q --set 'dsmc.weights={method: swpm, kappa: 1, max_particles: 1500}' -o " + b));
+  ok(test::run_granboltz(
+      "run " + cfg + " -q --set 'dsmc.weights={method: swpm, kappa: 1, max_particles: 1500}' -o " +
+      b));
   H5Reader ra(a), rb(b);
   for (const std::string obs : {"temperature", "a2"}) {
     const double x = ra.read_double("/steady/" + obs + "/mean")[0],
@@ -812,7 +860,8 @@ dsmc:
   // T against the white-noise balance 2 beta = zeta T of hard disks (Maxwellian, a2 neglected):
   // T^(3/2) = 2 beta / (pi^(3/2) gamma C (1 - alpha^2)) = 2 / (pi^(3/2) 0.75 / (2 pi)): within
   // 3 |a2|/16 ~ 1 % and the interval, so the test tells d = 2 from d = 3 rates (4 pi: T 2^(-2/3)).
-  const double T_theory = std::pow(2.0 / (std::pow(M_PI, 1.5) * 0.15915494309189535 * 0.75), 2.0 / 3.0);
+  const double T_theory =
+      std::pow(2.0 / (std::pow(M_PI, 1.5) * 0.15915494309189535 * 0.75), 2.0 / 3.0);
   const double T = rb.read_double("/steady/temperature/mean")[0],
                ci = rb.read_double("/steady/temperature/ci")[0];
   EXPECT_NEAR(T, T_theory, ci + 0.02 * T_theory);
@@ -833,14 +882,26 @@ dsmc:
 // far more: they would count gamma = g/(1 + kappa) of every loss as 1/n.
 TEST(WeightedEnsemble, GaussianThermostatHoldsT0AndMeasuresTheSonineCoolingRate) {
   const double alpha = 0.5;
-  const std::vector<std::string> s = {
-      "model=dsmc", "seed=5", "ensembles=12", "dsmc.particles=500", "dsmc.alpha=0.5",
-      "dsmc.beta=0", "dsmc.gamma=1", "dsmc.thermostat=gaussian", "dsmc.kernel.lambda=1",
-      "dsmc.kernel.C=" + format_real(1 / (4 * M_PI)), "dsmc.t_end=12", "dsmc.observe_every=1",
-      "dsmc.steady_from=4", "dsmc.weights.method=swpm", "dsmc.weights.kappa=0.25",
-      "dsmc.weights.max_particles=1000", "dsmc.weights.split.radius=3",
-      "dsmc.weights.split.rate=3.5", "dsmc.weights.split.interval=0.03",
-      "dsmc.weights.split.max_radius=16"};
+  const std::vector<std::string> s = {"model=dsmc",
+                                      "seed=5",
+                                      "ensembles=12",
+                                      "dsmc.particles=500",
+                                      "dsmc.alpha=0.5",
+                                      "dsmc.beta=0",
+                                      "dsmc.gamma=1",
+                                      "dsmc.thermostat=gaussian",
+                                      "dsmc.kernel.lambda=1",
+                                      "dsmc.kernel.C=" + format_real(1 / (4 * M_PI)),
+                                      "dsmc.t_end=12",
+                                      "dsmc.observe_every=1",
+                                      "dsmc.steady_from=4",
+                                      "dsmc.weights.method=swpm",
+                                      "dsmc.weights.kappa=0.25",
+                                      "dsmc.weights.max_particles=1000",
+                                      "dsmc.weights.split.radius=3",
+                                      "dsmc.weights.split.rate=3.5",
+                                      "dsmc.weights.split.interval=0.03",
+                                      "dsmc.weights.split.max_radius=16"};
   const Config cfg = parse_config("{}", "test", s);
   const test::DsmcRun r(cfg);
   for (std::size_t m = 0; m < r.times.size(); ++m)
@@ -871,7 +932,8 @@ TEST(WeightedEnsemble, GaussianThermostatHoldsT0AndMeasuresTheSonineCoolingRate)
       for (std::size_t j = 0; j < i; ++j) u2 = std::max(u2, norm2(p[i].v - p[j].v));
     }
     EXPECT_GE(e.u_max(), std::sqrt(u2)) << "u_max below a relative speed at t = " << t;
-    EXPECT_NEAR(e.u_max(), 2 * std::sqrt(r2), 1e-9 * e.u_max()) << "u_max not recomputed at t = " << t;
+    EXPECT_NEAR(e.u_max(), 2 * std::sqrt(r2), 1e-9 * e.u_max())
+        << "u_max not recomputed at t = " << t;
     // The drift (zeta/2) v needs ln(8/3)/(zeta/2) ~ 3.5 to carry split particles from 3 to 8.
     if (t >= 5) EXPECT_GT(tail, 10.0) << "no particles beyond 8 sqrt(T0) at t = " << t;
     if (t == 1) u_first = e.u_max();

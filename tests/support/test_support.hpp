@@ -9,9 +9,9 @@
 #include <unistd.h>
 
 #include <array>
-#include <csignal>
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -21,9 +21,9 @@
 
 #include "granboltz/app/config.hpp"
 #include "granboltz/dsmc/ensemble.hpp"
+#include "granboltz/dsmc/observables.hpp"
 #include "granboltz/dsmc/run.hpp"
 #include "granboltz/h5/hdf5_io.hpp"
-#include "granboltz/dsmc/observables.hpp"
 
 namespace granboltz::test {
 

@@ -1,9 +1,8 @@
 // Top level of a run config: model, seed, ensembles, execution keys; dispatch to the sections.
 #include "granboltz/app/config.hpp"
 
-#include <yaml-cpp/yaml.h>
-
 #include <sys/stat.h>
+#include <yaml-cpp/yaml.h>
 
 #include <filesystem>
 #include <fstream>
@@ -13,9 +12,12 @@ namespace granboltz {
 
 std::string model_name(Model m) {
   switch (m) {
-    case Model::kDsmc: return "dsmc";
-    case Model::kIntruder: return "intruder";
-    case Model::kNeedle: return "needle";
+    case Model::kDsmc:
+      return "dsmc";
+    case Model::kIntruder:
+      return "intruder";
+    case Model::kNeedle:
+      return "needle";
   }
   return "?";
 }
@@ -27,15 +29,15 @@ Config parse_config(const std::string& yaml_text, const std::string& origin,
   Config c;
   const std::string model = s.choice("model", {"dsmc", "intruder", "needle"});
   c.model = model == "intruder" ? Model::kIntruder
-            : model == "needle" ? Model::kNeedle : Model::kDsmc;
+            : model == "needle" ? Model::kNeedle
+                                : Model::kDsmc;
   c.seed = s.integer("seed");
   c.ensembles = s.integer("ensembles", 1, {1, kMaxInteger, "must be >= 1"});
   c.threads = static_cast<unsigned>(s.integer("threads", 0, kThreadsRange));
 
   if (s.has("shard")) {
     const Section sh = s.sub("shard");
-    c.shard.count =
-        sh.integer("count", {1, c.ensembles, "must satisfy 1 <= count <= ensembles"});
+    c.shard.count = sh.integer("count", {1, c.ensembles, "must satisfy 1 <= count <= ensembles"});
     c.shard.index =
         sh.integer("index", {0, c.shard.count - 1, "must satisfy 0 <= index < shard.count"});
     sh.finish({"index", "count"});
@@ -61,8 +63,12 @@ Config parse_config(const std::string& yaml_text, const std::string& origin,
                           std::to_string(c.dsmc.source->ensembles) +
                           " ensembles of dsmc.initial.from (ensemble e continues the source's e)");
       break;
-    case Model::kIntruder: c.intruder = read_intruder(s.sub("intruder")); break;
-    case Model::kNeedle: c.needle = read_needle(s.sub("needle")); break;
+    case Model::kIntruder:
+      c.intruder = read_intruder(s.sub("intruder"));
+      break;
+    case Model::kNeedle:
+      c.needle = read_needle(s.sub("needle"));
+      break;
   }
   s.finish({"model", "seed", "ensembles", "threads", "shard", "checkpoint", section});
   return c;
@@ -72,7 +78,7 @@ Config load_config(const std::string& path, const std::vector<std::string>& over
   const std::string shown = quote_value(path, 300);
   // stat, not open: opening a FIFO would block until someone writes to it, and a device such as
   // /dev/zero would be read without end.
-  struct stat st{};
+  struct stat st {};
   if (::stat(path.c_str(), &st) == 0) {
     if (S_ISDIR(st.st_mode)) throw ConfigError(shown + ": is a directory, not a config file");
     if (!S_ISREG(st.st_mode))
@@ -100,18 +106,24 @@ std::string Config::to_yaml(bool physics_only) const {
   if (!physics_only) {
     out << YAML::Key << "threads" << YAML::Value << threads;
     if (shard.count > 1)
-      out << YAML::Key << "shard" << YAML::Value << YAML::Flow << YAML::BeginMap
-          << YAML::Key << "index" << YAML::Value << shard.index
-          << YAML::Key << "count" << YAML::Value << shard.count << YAML::EndMap;
+      out << YAML::Key << "shard" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
+          << "index" << YAML::Value << shard.index << YAML::Key << "count" << YAML::Value
+          << shard.count << YAML::EndMap;
     if (checkpoint.every_seconds > 0)
-      out << YAML::Key << "checkpoint" << YAML::Value << YAML::Flow << YAML::BeginMap
-          << YAML::Key << "every_seconds" << YAML::Value << format_real(checkpoint.every_seconds)
+      out << YAML::Key << "checkpoint" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
+          << "every_seconds" << YAML::Value << format_real(checkpoint.every_seconds)
           << YAML::EndMap;
   }
   switch (model) {
-    case Model::kDsmc: emit_dsmc(out, dsmc); break;
-    case Model::kIntruder: emit_intruder(out, intruder); break;
-    case Model::kNeedle: emit_needle(out, needle); break;
+    case Model::kDsmc:
+      emit_dsmc(out, dsmc);
+      break;
+    case Model::kIntruder:
+      emit_intruder(out, intruder);
+      break;
+    case Model::kNeedle:
+      emit_needle(out, needle);
+      break;
   }
   out << YAML::EndMap;
   return std::string(out.c_str()) + "\n";

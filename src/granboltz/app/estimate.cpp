@@ -1,36 +1,36 @@
 #include "granboltz/app/estimate.hpp"
 
-#include <array>
+#include <poll.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <array>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
-#include <cerrno>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <ctime>
 #include <functional>
 #include <limits>
-#include <new>
-#include <stdexcept>
 #include <map>
 #include <memory>
+#include <new>
+#include <stdexcept>
 #include <string>
 #include <tuple>
 #include <utility>
 #include <variant>
 #include <vector>
 
-#include <poll.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
-#include "granboltz/exec/ensemble_pool.hpp"
 #include "granboltz/app/output.hpp"
 #include "granboltz/app/run.hpp"
+#include "granboltz/dsmc/engine.hpp"
 #include "granboltz/dsmc/observables.hpp"
 #include "granboltz/dsmc/run.hpp"
-#include "granboltz/dsmc/engine.hpp"
+#include "granboltz/exec/ensemble_pool.hpp"
 #include "granboltz/physics/pair_collision.hpp"
 #include "granboltz/random/rng.hpp"
 #include "granboltz/random/samplers.hpp"
@@ -47,8 +47,9 @@ namespace {
 // slower per event, so estimates there are optimistic by up to a quarter). DSMC, global majorant:
 // 37.5 ns at n = 4096 and 65536, 49.6 at n = 10^7 (cache misses); pairwise: 38.8, 43.5, 93 at
 // n = 10^4, 10^5, 10^6 (58.9, 67.7, 176 before its index streams, scaled by the new/old ratio
-// measured side by side on a later machine: 0.66, 0.64, 0.53). TV06: intruder Gillespie 117 per collision, intruder DSMC 19.9 per
-// candidate, needle (thinning) 705 per candidate. Two threads run 1.98 times as fast as one.
+// measured side by side on a later machine: 0.66, 0.64, 0.53). TV06: intruder Gillespie 117 per
+// collision, intruder DSMC 19.9 per candidate, needle (thinning) 705 per candidate. Two threads
+// run 1.98 times as fast as one.
 constexpr double kNsIntruderGillespie = 117.0, kNsIntruderDsmc = 19.9, kNsNeedle = 705.0;
 constexpr double kParallelEfficiency = 0.99;
 // The work that is not events, timed with `granboltz run -q --threads 1` (user time, Release, on
@@ -93,9 +94,9 @@ constexpr double kFixedSeconds = 0.014;
 // which have no kicks, are no longer costed as heated runs (1.3-1.7 times too high). Larger n
 // cost more per event (cache misses) in the same proportion as ns_per_dsmc_event.
 constexpr double kNsCandidate = 14.6, kNsCollision = 7.3, kNsKickMaxwell = 7.8, kNsKick = 11.4;
-// A kick of drag, or of shear with noise (the exact propagator: an exp, an expm1, square roots) costs this much
-// more than a white-noise kick: drag with noise against white noise alone, lambda = 0, 128 x 2000
-// particles, 2.05e7 kicks each, one thread: 1.20 s against 0.425 s (two runs each).
+// A kick of drag, or of shear with noise (the exact propagator: an exp, an expm1, square roots)
+// costs this much more than a white-noise kick: drag with noise against white noise alone, lambda =
+// 0, 128 x 2000 particles, 2.05e7 kicks each, one thread: 1.20 s against 0.425 s (two runs each).
 constexpr double kNsFlightKickExtra = 38.0;
 // Under the Gaussian thermostat a real collision also updates the energy and the scale: 6.5 ns
 // more (one species), 10 more (the general gas); the general gas draws a pair's class by a
@@ -143,12 +144,13 @@ double output_ns(const Config& config, double ensembles) {
   const DsmcConfig& d = config.dsmc;
   Record::Sizing size;
   layout_of(config);
-  const double moments = static_cast<double>(size.moments), counts = static_cast<double>(size.counts);
+  const double moments = static_cast<double>(size.moments),
+               counts = static_cast<double>(size.counts);
   double ns = moments * (kNsMomentSum + ensembles * kNsEnsembleMomentSum) +
               counts * (kNsCount + ensembles * kNsEnsembleCount);
   if (d.steady && d.histogram.shells) {
-    const double shells = (static_cast<double>(d.histogram.shells) + 1.0) *
-                          (d.histogram.component ? 2.0 : 1.0);
+    const double shells =
+        (static_cast<double>(d.histogram.shells) + 1.0) * (d.histogram.component ? 2.0 : 1.0);
     ns += ensembles * shells * static_cast<double>(steady_rows(d)) * kNsSteadyRowShellEnsemble;
   }
   return ns;
@@ -215,8 +217,7 @@ double inelastic_fraction(const RestitutionLaw& law, double lambda, double T) {
     const double wr = std::pow(r, 4.0 + lambda) * std::exp(-0.25 * r * r);
     for (int k = 0; k < kZ; ++k) {
       const double z = (k + 0.5) / kZ;
-      const double eps =
-          std::visit([&](const auto& l) { return l.eps_of_g2(T * r * r * z); }, law);
+      const double eps = std::visit([&](const auto& l) { return l.eps_of_g2(T * r * r * z); }, law);
       loss += wr * z * (1.0 - eps * eps);
       norm += wr * z;
     }
@@ -253,19 +254,19 @@ DsmcEvents dsmc_events(const DsmcConfig& d) {
   const double loss_geometry =
       dim == 2 ? (d.geometry == Geometry::kImpact ? 4.0 / 3.0 : 1.0) / 8.0 : 1.0 / 6.0;
   const double heat = heated ? 2.0 * d.beta : 0.0;
-  const double B = gaussian ? 0.0
-                   : dim == 2 ? M_PI * loss_geometry * gc * (1.0 - d.alpha * d.alpha) * (n - 1.0) / n *
-                                    gaussian_moment(2.0, 2.0 + lambda, 2)
-                            : M_PI * gc * (1.0 - d.alpha * d.alpha) * (n - 1.0) / (6.0 * n) *
-                                  gaussian_moment(2.0, 2.0 + lambda);
+  const double B = gaussian   ? 0.0
+                   : dim == 2 ? M_PI * loss_geometry * gc * (1.0 - d.alpha * d.alpha) * (n - 1.0) /
+                                    n * gaussian_moment(2.0, 2.0 + lambda, 2)
+                              : M_PI * gc * (1.0 - d.alpha * d.alpha) * (n - 1.0) / (6.0 * n) *
+                                    gaussian_moment(2.0, 2.0 + lambda);
   // A law of g_n (viscoelastic): the same equation with 1 - alpha^2 replaced by its Maxwellian
   // average at the current T (inelastic_fraction), so the rates follow the law's cooling. The
   // event counts for a given T(t) do not depend on the law.
   const bool constant_law = is_constant(d.restitution);
-  const double B1 = gaussian ? 0.0
-                    : dim == 2 ? M_PI * loss_geometry * gc * (n - 1.0) / n *
-                                     gaussian_moment(2.0, 2.0 + lambda, 2)
-                             : M_PI * gc * (n - 1.0) / (6.0 * n) * gaussian_moment(2.0, 2.0 + lambda);
+  const double B1 =
+      gaussian   ? 0.0
+      : dim == 2 ? M_PI * loss_geometry * gc * (n - 1.0) / n * gaussian_moment(2.0, 2.0 + lambda, 2)
+                 : M_PI * gc * (n - 1.0) / (6.0 * n) * gaussian_moment(2.0, 2.0 + lambda);
   auto B_at = [&](double T_now) {
     return constant_law || gaussian ? B : B1 * inelastic_fraction(d.restitution, lambda, T_now);
   };
@@ -332,7 +333,8 @@ DsmcEvents dsmc_events(const DsmcConfig& d) {
     std::array<double, 9> r{};
     for (int i = 0; i < dim; ++i)
       for (int j = 0; j < dim; ++j) {
-        double x = -relax * (X[3 * i + j] - (i == j ? T_now : 0.0)) - 2.0 * flight.gamma * X[3 * i + j];
+        double x =
+            -relax * (X[3 * i + j] - (i == j ? T_now : 0.0)) - 2.0 * flight.gamma * X[3 * i + j];
         if (i == j) x += heat - cool;
         if (i == 0) x -= flight.shear * X[3 + j];
         if (j == 0) x -= flight.shear * X[3 * i + 1];
@@ -343,7 +345,8 @@ DsmcEvents dsmc_events(const DsmcConfig& d) {
   // No-splitting shear: the majorant of a window allows for the growth of a speed in it.
   const double window_growth =
       flight.shear != 0.0 && !split ? flight::Shear::growth(flight::Shear::kWindow) : 1.0;
-  if (!std::isfinite(A * (constant_law ? B : B1) * heat * T0 * d.t_end * u0 + 1.0)) {  // cannot be integrated
+  if (!std::isfinite(A * (constant_law ? B : B1) * heat * T0 * d.t_end * u0 +
+                     1.0)) {  // cannot be integrated
     e.collisions = e.candidates = NAN;
     return e;
   }
@@ -397,8 +400,8 @@ DsmcEvents dsmc_events(const DsmcConfig& d) {
     // U_max follows the largest |v - V| the update has seen, Maxwellian at the highest
     // temperature reached so far.
     if (tracks_max)
-      u_max = std::max(u_max, window_growth * factor * std::sqrt(T_peak) *
-                                  chi_expected_max(seen(t), dim));
+      u_max = std::max(u_max,
+                       window_growth * factor * std::sqrt(T_peak) * chi_expected_max(seen(t), dim));
     e.candidates += 0.5 * h * (c0 + candidate_rate(T, u_max));
     if (!std::isfinite(e.candidates)) break;
   }
@@ -406,7 +409,9 @@ DsmcEvents dsmc_events(const DsmcConfig& d) {
   if (heated || flies) {
     if (!split)  // both partners at every candidate, all at observations (and shear windows)
       e.kicks = 2.0 * e.candidates + n * observations +
-                (flight.shear != 0.0 ? n * std::floor(d.t_end * std::fabs(flight.shear) / flight::Shear::kWindow) : 0.0);
+                (flight.shear != 0.0
+                     ? n * std::floor(d.t_end * std::fabs(flight.shear) / flight::Shear::kWindow)
+                     : 0.0);
     else
       e.kicks = n * steps;
   }
@@ -469,7 +474,7 @@ std::pair<double, double> law_factors(const RestitutionLaw& law, double lambda, 
       const double x = (k + 0.5) / kZ;
       // z = (u^.n)^2: uniform on [0, 1] in d = 3 (e uniform on S^2), 1 - s^2 with s uniform for
       // hard-disk impacts, (1 - cos phi)/2 with phi uniform for uniform disks.
-      const double z = d.dimension == 3                 ? x
+      const double z = d.dimension == 3                  ? x
                        : d.geometry == Geometry::kImpact ? 1.0 - x * x
                                                          : 0.5 * (1.0 - std::cos(M_PI * x));
       const double eps =
@@ -541,8 +546,8 @@ class GasModel {
                         format_real(I_[a]) + ", overflow"};
     }
     for (const Class& c : classes_)
-      if (!std::isfinite(c.k * c.pairs) || !std::isfinite(c.terms.spin_a + c.terms.spin_b +
-                                                          c.terms.tangential))
+      if (!std::isfinite(c.k * c.pairs) ||
+          !std::isfinite(c.terms.spin_a + c.terms.spin_b + c.terms.tangential))
         throw NotFinite{"the collision terms of species " + d_.species[c.a].name + " and " +
                         d_.species[c.b].name + " overflow"};
   }
@@ -567,7 +572,7 @@ class GasModel {
       const double va = std::max(x[a], 0.0) / m_[a], vb = std::max(x[b], 0.0) / m_[b];
       const double S = va + vb;
       if (!(S > 0.0)) continue;
-      const double rate = c.k * c.pairs * gaussian_moment(S, lambda_, dim);  // collisions
+      const double rate = c.k * c.pairs * gaussian_moment(S, lambda_, dim);        // collisions
       const double flux = c.k * c.pairs * gaussian_moment(S, lambda_ + 2.0, dim);  // rate <|u|^2>
       if (collisions) *collisions += rate;
       if (seen) (*seen)[a] += rate, (*seen)[b] += rate;
@@ -646,8 +651,9 @@ class GasModel {
     auto at = [&](double k) {
       auto it = c.law.find(static_cast<long>(k));
       if (it == c.law.end())
-        it = c.law.emplace(static_cast<long>(k),
-                           law_factors(d_.restitution, lambda_, std::exp(k / 16.0), d_))
+        it = c.law
+                 .emplace(static_cast<long>(k),
+                          law_factors(d_.restitution, lambda_, std::exp(k / 16.0), d_))
                  .first;
       return it->second;
     };
@@ -705,7 +711,8 @@ DsmcEvents gas_events(const DsmcConfig& d) {
   g.check_scales();
   const std::size_t K = g.species(), dim = g.size();
   const double n = static_cast<double>(d.particles);
-  const bool heated = (d.thermostat == Thermostat::kWhiteNoise && d.beta > 0.0) || d.linear_flight();
+  const bool heated =
+      (d.thermostat == Thermostat::kWhiteNoise && d.beta > 0.0) || d.linear_flight();
   const bool split = d.scheme != Scheme::kNoSplit;
   const double lambda = d.kernel.lambda;
   const double observations = static_cast<double>(d.observations());
@@ -760,7 +767,7 @@ DsmcEvents gas_events(const DsmcConfig& d) {
   double cand = lambda == 0.0 ? rate : g.candidate_rate(R);
   if (!exact) bounds_now(seen_rate), cand = lambda == 0.0 ? rate : g.candidate_rate(R);
   std::vector<double> J(dim * dim), x1(dim), f1(dim), k1(dim), k2(dim), W(dim * dim);
-  std::vector<double> x_of_J;  // the state J was taken at (none yet)
+  std::vector<double> x_of_J;                       // the state J was taken at (none yet)
   const double gamma = 1.0 + 1.0 / std::sqrt(2.0);  // ROS2
   bool steady = false;
   for (int step = 0; t < d.t_end; ++step) {
@@ -907,7 +914,8 @@ DsmcEvents gas_events(const DsmcConfig& d) {
 void dsmc_time(const Config& config, double ensembles, DsmcEvents& e) {
   const DsmcConfig& d = config.dsmc;
   const double n = static_cast<double>(d.particles);
-  const bool heated = (d.thermostat == Thermostat::kWhiteNoise && d.beta > 0.0) || d.linear_flight();
+  const bool heated =
+      (d.thermostat == Thermostat::kWhiteNoise && d.beta > 0.0) || d.linear_flight();
   const bool gaussian = d.thermostat == Thermostat::kGaussian;
   const bool split = d.scheme != Scheme::kNoSplit;
   const double observations = static_cast<double>(d.observations());
@@ -922,8 +930,9 @@ void dsmc_time(const Config& config, double ensembles, DsmcEvents& e) {
            e.collisions * ((d.roughness.on ? kNsGasRoughCollision : kNsGasCollision) +
                            (gaussian ? kNsGasGaussianCollision : 0.0)) +
            pair_kicks * kNsGasKick +
-           n * rows * (kNsGasParticleObserved + (d.species_written ? kNsGasSpeciesObserved : 0.0) +
-                       histograms * kNsHistogramParticle);
+           n * rows *
+               (kNsGasParticleObserved + (d.species_written ? kNsGasSpeciesObserved : 0.0) +
+                histograms * kNsHistogramParticle);
   } else if (d.majorant == MajorantKind::kPairwise) {
     e.ns = e.candidates * ns_per_dsmc_event(n, d.majorant) +
            n * rows * (kNsPerParticleObserved + histograms * kNsHistogramParticle);
@@ -935,14 +944,16 @@ void dsmc_time(const Config& config, double ensembles, DsmcEvents& e) {
                     pair_kicks * (d.kernel.lambda > 0.0 ? kNsKick : kNsKickMaxwell)) +
            n * rows * (kNsPerParticleObserved + histograms * kNsHistogramParticle);
   }
-  e.events_ns = e.ns - n * rows * histograms * kNsHistogramParticle -
-                n * rows * (d.general() ? kNsGasParticleObserved +
-                                              (d.species_written ? kNsGasSpeciesObserved : 0.0)
-                                        : kNsPerParticleObserved);
+  e.events_ns =
+      e.ns - n * rows * histograms * kNsHistogramParticle -
+      n * rows *
+          (d.general() ? kNsGasParticleObserved + (d.species_written ? kNsGasSpeciesObserved : 0.0)
+                       : kNsPerParticleObserved);
   if (split) e.ns += steps * (d.scheme == Scheme::kEuler ? kNsEulerStep : kNsStrangStep);
   if (heated) e.ns += split ? e.kicks * kNsStepKick : n * observations * kNsObservationKick;
   // Shear alone is a multiply-add (no noise, no exponential): no extra.
-  if (d.linear_flight() && (d.beta > 0.0 || d.drag_gamma() > 0.0)) e.ns += e.kicks * kNsFlightKickExtra;
+  if (d.linear_flight() && (d.beta > 0.0 || d.drag_gamma() > 0.0))
+    e.ns += e.kicks * kNsFlightKickExtra;
   if (gaussian) e.ns += n * rows * kNsGaussianFold;
   e.serial_ns = output_ns(config, ensembles);
 }
@@ -1004,8 +1015,7 @@ void run_pilot(const DsmcConfig& d, std::uint64_t seed, Emit&& emit) {
     const EventCounts& c = pilot.counts();
     candidates = static_cast<double>(c.collisions + c.fictitious);
     emit(PilotMark{t, candidates, static_cast<double>(c.collisions),
-                   static_cast<double>(c.kicks) - stop_kicks,
-                   cpu_seconds() - start, observed,
+                   static_cast<double>(c.kicks) - stop_kicks, cpu_seconds() - start, observed,
                    observation_kicks, static_cast<double>(pilot.view().particles.size())});
   };
   mark(0.0);
@@ -1017,7 +1027,7 @@ void run_pilot(const DsmcConfig& d, std::uint64_t seed, Emit&& emit) {
       pilot.advance_to(s);
       const double n = static_cast<double>(pilot.view().particles.size());
       if (heated) stop_kicks += n;  // kick_all_to(s) at the end of advance_to
-      if (k == pieces) {  // an observation of the run
+      if (k == pieces) {            // an observation of the run
         ++observed;
         if (heated) observation_kicks += n;
       }
@@ -1327,8 +1337,8 @@ RunEstimate estimate_unchecked(const Config& config, unsigned threads, bool pilo
       one_ensemble.checkpoint.every_seconds = 0.0;
       const double need = static_cast<double>(estimate_memory(one_ensemble, 1));
       const double have = static_cast<double>(available_memory());
-      const WeightedCost pilot =
-          have > 0 && need > 0.9 * have ? WeightedCost::lower_bound() : weighted_cost(d, config.seed);
+      const WeightedCost pilot = have > 0 && need > 0.9 * have ? WeightedCost::lower_bound()
+                                                               : weighted_cost(d, config.seed);
       const double observe_ns = one.ns - one.events_ns;
       // A stuck pilot: the events of constant weights stand in, and the time is a lower bound,
       // the larger of the pilot's and that of the constant-weight events.
@@ -1401,11 +1411,11 @@ std::vector<Suspect> suspects(const Config& config) {
   std::vector<Suspect> s;
   if (config.model == Model::kDsmc) {
     const DsmcConfig& d = config.dsmc;
-    s.push_back({"dsmc.beta", d.beta, [](Config& c) { c.dsmc.beta = c.dsmc.beta > 0 ? 1.0 : 0.0; }});
+    s.push_back(
+        {"dsmc.beta", d.beta, [](Config& c) { c.dsmc.beta = c.dsmc.beta > 0 ? 1.0 : 0.0; }});
     s.push_back({"dsmc.gamma", d.kernel.gamma, [](Config& c) { c.dsmc.kernel.gamma = 1.0; }});
     s.push_back({"dsmc.kernel.C", d.kernel.C, [](Config& c) { c.dsmc.kernel.C = 0.1; }});
-    s.push_back({"dsmc.initial.temperature", d.initial_temperature,
-                 [](Config& c) {
+    s.push_back({"dsmc.initial.temperature", d.initial_temperature, [](Config& c) {
                    c.dsmc.initial_temperature = 1.0;
                    c.dsmc.initial_temperature_tensor.clear();
                  }});
@@ -1418,7 +1428,8 @@ std::vector<Suspect> suspects(const Config& config) {
     s.push_back({"dsmc.particles", static_cast<double>(d.particles),
                  [](Config& c) { c.dsmc.particles = 1000; }});
     if (d.shear_rate() != 0.0)
-      s.push_back({"dsmc.shear.rate", d.shear_rate(), [](Config& c) { c.dsmc.flights[1].value = 1.0; }});
+      s.push_back(
+          {"dsmc.shear.rate", d.shear_rate(), [](Config& c) { c.dsmc.flights[1].value = 1.0; }});
     if (d.drag_gamma() != 0.0)
       s.push_back({"dsmc.drag.gamma", d.drag_gamma(), [](Config& c) {
                      c.dsmc.flights[0].value = 1.0;
@@ -1432,16 +1443,15 @@ std::vector<Suspect> suspects(const Config& config) {
     if (d.species_written)
       for (std::size_t a = 0; a < d.species.size(); ++a) {
         const std::string key = "dsmc.species[" + std::to_string(a) + "].";
-        s.push_back({key + "mass", d.species[a].mass,
-                     [a](Config& c) { c.dsmc.species[a].mass = 1.0; }});
+        s.push_back(
+            {key + "mass", d.species[a].mass, [a](Config& c) { c.dsmc.species[a].mass = 1.0; }});
         s.push_back({key + "diameter", d.species[a].diameter,
                      [a](Config& c) { c.dsmc.species[a].diameter = 1.0; }});
       }
     if (d.roughness.on) {
-      s.push_back({"dsmc.initial.rotational_temperature", d.initial_rotational_temperature,
-                   [](Config& c) {
-                     c.dsmc.initial_rotational_temperature = c.dsmc.initial_temperature;
-                   }});
+      s.push_back(
+          {"dsmc.initial.rotational_temperature", d.initial_rotational_temperature,
+           [](Config& c) { c.dsmc.initial_rotational_temperature = c.dsmc.initial_temperature; }});
       const double uniform = d.dimension == 2 ? 0.5 : 0.4;  // a uniform disk or sphere
       if (d.roughness.inertia_per_species) {
         for (std::size_t a = 0; a < d.species.size(); ++a)
@@ -1463,8 +1473,8 @@ std::vector<Suspect> suspects(const Config& config) {
     s.push_back({"intruder.mass", c.mass, [](Config& x) { x.intruder.mass = 1.0; }});
   } else {
     const NeedleConfig& c = config.needle;
-    s.push_back({"needle.sample_every", c.sample_every,
-                 [](Config& x) { x.needle.sample_every = 0.0; }});
+    s.push_back(
+        {"needle.sample_every", c.sample_every, [](Config& x) { x.needle.sample_every = 0.0; }});
     s.push_back({"needle.length", c.length, [](Config& x) { x.needle.length = 1.0; }});
     s.push_back({"needle.a", c.a, [](Config& x) { x.needle.a = 1.0; }});
     s.push_back({"needle.density", c.density, [](Config& x) { x.needle.density = 1.0; }});
@@ -1503,16 +1513,15 @@ namespace {
     }
   };
   // Only a pilot (SWPM) failed: no single key is to blame.
-  if (closed_form_bounded(config))
-    throw ConfigError("the run's cost cannot be estimated: " + why);
+  if (closed_form_bounded(config)) throw ConfigError("the run's cost cannot be estimated: " + why);
   for (const Suspect& s : suspects(config)) {
     Config tamed = config;
     s.tame(tamed);
     if (closed_form_bounded(tamed))
-      throw ConfigError(cut(s.key + " = " + format_real(s.value)) + ": " +
-                        (why == "overflow" ? "the run's cost cannot be estimated (overflow)"
-                                           : why) +
-                        "; choose a less extreme value");
+      throw ConfigError(
+          cut(s.key + " = " + format_real(s.value)) + ": " +
+          (why == "overflow" ? "the run's cost cannot be estimated (overflow)" : why) +
+          "; choose a less extreme value");
   }
   throw ConfigError("the run's cost estimate is not finite (" + why +
                     "); check the config's extreme values");
@@ -1549,7 +1558,8 @@ std::string describe(const RunEstimate& e) {
                 "wall time %s %s on %u thread%s",
                 static_cast<unsigned long long>(e.ensembles), e.collisions, e.fictitious, e.kicks,
                 human_bytes(static_cast<double>(e.memory_bytes)).c_str(),
-                e.lower_bound ? "more than" : "about", human_seconds(e.seconds).c_str(), e.threads, e.threads == 1 ? "" : "s");
+                e.lower_bound ? "more than" : "about", human_seconds(e.seconds).c_str(), e.threads,
+                e.threads == 1 ? "" : "s");
   return buf;
 }
 

@@ -40,10 +40,11 @@ void merge_outputs(const std::vector<std::string>& inputs, const std::string& ou
     check_input_file(path, "an HDF5 file");
     const std::vector<std::string> problems = file_problems(path);
     if (!problems.empty())
-      throw std::runtime_error(path + ": " + problems.front() +
-                               (problems.size() > 1 ? " (and " + std::to_string(problems.size() - 1) +
-                                                          " more damaged datasets)"
-                                                    : std::string()));
+      throw std::runtime_error(
+          path + ": " + problems.front() +
+          (problems.size() > 1
+               ? " (and " + std::to_string(problems.size() - 1) + " more damaged datasets)"
+               : std::string()));
   }
   std::string config_text, version;
   Config config;
@@ -51,7 +52,8 @@ void merge_outputs(const std::vector<std::string>& inputs, const std::string& ou
   for (std::size_t i = 0; i < inputs.size(); ++i) {
     H5Reader in(inputs[i]);
     if (in.has_attr("/", "kind") && in.attr_string("/", "kind") == "checkpoint")
-      throw ConfigError(inputs[i] + ": is the checkpoint of an unfinished run, not an output; "
+      throw ConfigError(inputs[i] +
+                        ": is the checkpoint of an unfinished run, not an output; "
                         "finish the run (granboltz run resumes from it) and merge its output");
     const Config c = config_of_file(in);
     const std::string text = in.attr_string("/", "config");

@@ -1,8 +1,8 @@
 #include "granboltz/app/output.hpp"
 
+#include "granboltz/core/version.hpp"
 #include "granboltz/dsmc/run.hpp"
 #include "granboltz/tv06/run.hpp"
-#include "granboltz/core/version.hpp"
 
 namespace granboltz {
 
@@ -12,8 +12,10 @@ Record layout_of(const Config& config) {
 
 void write_output(H5Writer& out, const Config& config, const Record& record,
                   const std::map<std::string, std::string>& provenance) {
-  if (config.model == Model::kDsmc) present_dsmc(out, config, record);
-  else present_tv06(out, config, record);
+  if (config.model == Model::kDsmc)
+    present_dsmc(out, config, record);
+  else
+    present_tv06(out, config, record);
   record.write(out);
   out.attr("/", "config", config.to_yaml(true));
   out.attr("/", "model", model_name(config.model));

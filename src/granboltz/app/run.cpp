@@ -15,15 +15,15 @@
 #include <limits>
 
 #include "granboltz/app/estimate.hpp"
-#include "granboltz/dsmc/run.hpp"
-#include "granboltz/stats/exact_sum.hpp"
-#include "granboltz/h5/hdf5_io.hpp"
-#include "granboltz/dsmc/observables.hpp"
 #include "granboltz/app/output.hpp"
-#include "granboltz/h5/verify.hpp"
-#include "granboltz/dsmc/particles.hpp"
-#include "granboltz/tv06/run.hpp"
 #include "granboltz/core/version.hpp"
+#include "granboltz/dsmc/observables.hpp"
+#include "granboltz/dsmc/particles.hpp"
+#include "granboltz/dsmc/run.hpp"
+#include "granboltz/h5/hdf5_io.hpp"
+#include "granboltz/h5/verify.hpp"
+#include "granboltz/stats/exact_sum.hpp"
+#include "granboltz/tv06/run.hpp"
 
 namespace granboltz {
 
@@ -76,15 +76,14 @@ void write_checkpoint(const std::string& path, const Config& config, const Recor
 
 // The record saved by an earlier, interrupted run of the same config and shard, if any.
 bool load_checkpoint(const std::string& path, const Config& config, Record& record) {
-  struct stat st{};
+  struct stat st {};
   if (::lstat(path.c_str(), &st) != 0) return false;
   const std::string fix = "; delete it to start afresh, or write to another output";
   if (!S_ISREG(st.st_mode))
     throw ConfigError(path + ": the checkpoint is not a regular file" + fix);
   // Read through once in a child process first: a damaged file can crash the HDF5 library.
   const FileCheck check = check_file(path);
-  if (!check.problems.empty())
-    throw std::runtime_error(path + ": " + check.problems.front() + fix);
+  if (!check.problems.empty()) throw std::runtime_error(path + ": " + check.problems.front() + fix);
   H5Reader in(path);
   const std::string text = config.to_yaml(true);
   auto attr = [&](const char* name) {
@@ -156,8 +155,9 @@ std::uint64_t estimate_memory(const Config& config, unsigned threads) {
     // A checkpoint is built in memory (h5/hdf5_io.cpp): 32 bytes per particle in progress, and
     // a copy while it is written out.
     if (config.checkpoint.every_seconds > 0)
-      bytes += 2.0 * t * static_cast<double>(d.particles) * 32.0 +
-               (d.weights.swpm ? 2.0 * t * static_cast<double>(d.weights.max_particles) * 40.0 : 0.0);
+      bytes +=
+          2.0 * t * static_cast<double>(d.particles) * 32.0 +
+          (d.weights.swpm ? 2.0 * t * static_cast<double>(d.weights.max_particles) * 40.0 : 0.0);
   } else {
     bytes += tv06_memory_estimate(config, threads);
   }
@@ -213,22 +213,24 @@ void run_to_file(const Config& config, const std::string& path, const DriverOpti
     };
   }
   if (resumed) opts.resume_from = checkpoint;
-  if (config.model == Model::kDsmc) run_dsmc(config, opts, record);
-  else run_tv06(config, opts, record);
+  if (config.model == Model::kDsmc)
+    run_dsmc(config, opts, record);
+  else
+    run_tv06(config, opts, record);
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-  write_output(out, config, record,
-               {{"run_config", config.to_yaml(false)},
-                {"command", command},
-                {"threads", std::to_string(threads)},
-                {"shard", std::to_string(config.shard.index) + "/" +
-                              std::to_string(config.shard.count)},
-                {"wall_seconds", std::to_string(wall)},
-                {"resumed_from_checkpoint", resumed ? "yes" : "no"},
-                {"started_utc", started},
-                {"host", hostname()},
-                {"build", std::string(GRANBOLTZ_BUILD_TYPE) + ", " GRANBOLTZ_COMPILER}});
+  write_output(
+      out, config, record,
+      {{"run_config", config.to_yaml(false)},
+       {"command", command},
+       {"threads", std::to_string(threads)},
+       {"shard", std::to_string(config.shard.index) + "/" + std::to_string(config.shard.count)},
+       {"wall_seconds", std::to_string(wall)},
+       {"resumed_from_checkpoint", resumed ? "yes" : "no"},
+       {"started_utc", started},
+       {"host", hostname()},
+       {"build", std::string(GRANBOLTZ_BUILD_TYPE) + ", " GRANBOLTZ_COMPILER}});
   out.commit();
   std::error_code ec;
   std::filesystem::remove(checkpoint, ec);  // the output now holds everything

@@ -3,9 +3,8 @@
 #include <cstdint>
 #include <string>
 
-#include "granboltz/core/text_hash.hpp"
-
 #include "granboltz/app/config.hpp"
+#include "granboltz/core/text_hash.hpp"
 #include "granboltz/exec/ensemble_pool.hpp"
 
 namespace granboltz {

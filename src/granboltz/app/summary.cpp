@@ -19,7 +19,8 @@ std::string number(double x, int digits) {
 std::string value(const H5Reader& in, const std::string& group, const std::string& name,
                   bool last = false) {
   if (!in.exists(group + "/mean") || !in.exists(group + "/ci")) return "";
-  const std::vector<double> mean = in.read_double(group + "/mean"), ci = in.read_double(group + "/ci");
+  const std::vector<double> mean = in.read_double(group + "/mean"),
+                            ci = in.read_double(group + "/ci");
   if (mean.empty() || mean.size() != ci.size() || (!last && mean.size() != 1)) return "";
   return name + " = " + number(mean.back(), 5) + " ± " + number(ci.back(), 2);
 }

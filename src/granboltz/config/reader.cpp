@@ -33,8 +33,11 @@ std::string hex_escape(const char* prefix, unsigned value, int digits) {
 // Length of the UTF-8 sequence at s[i], or 0 if it is not valid UTF-8.
 std::size_t utf8_length(const std::string& s, std::size_t i) {
   const auto c = static_cast<unsigned char>(s[i]);
-  const std::size_t n = c < 0x80 ? 1 : c >= 0xC2 && c <= 0xDF ? 2 : c >= 0xE0 && c <= 0xEF ? 3
-                                   : c >= 0xF0 && c <= 0xF4 ? 4 : 0;
+  const std::size_t n = c < 0x80                 ? 1
+                        : c >= 0xC2 && c <= 0xDF ? 2
+                        : c >= 0xE0 && c <= 0xEF ? 3
+                        : c >= 0xF0 && c <= 0xF4 ? 4
+                                                 : 0;
   if (n == 0 || i + n > s.size()) return 0;
   for (std::size_t k = 1; k < n; ++k)
     if ((static_cast<unsigned char>(s[i + k]) & 0xC0) != 0x80) return 0;
@@ -68,9 +71,9 @@ void require_plain_number(const YAML::Node& n, const std::string& name, const ch
   if (tag.empty() || tag == "?" || tag == "tag:yaml.org,2002:int" ||
       tag == "tag:yaml.org,2002:float")
     return;
-  throw ConfigError(name + " = " + shown(n) + ": must be " + what + ", not " +
-                    (tag == "!" ? std::string("a quoted string")
-                                : "a value tagged " + short_tag(tag)));
+  throw ConfigError(
+      name + " = " + shown(n) + ": must be " + what + ", not " +
+      (tag == "!" ? std::string("a quoted string") : "a value tagged " + short_tag(tag)));
 }
 
 // Checks a YAML document as written, from the parser's events, before it is loaded as a tree:
@@ -144,7 +147,7 @@ class DocumentChecker : public YAML::EventHandler {
   struct Anchor {
     std::string name;
     bool open = true;
-    std::uint64_t nodes = 0;              // nodes with aliases expanded
+    std::uint64_t nodes = 0;  // nodes with aliases expanded
     int height = 0;
     const std::string* scalar = nullptr;  // for an anchored scalar: its text (an alias key)
   };
@@ -235,8 +238,8 @@ class DocumentChecker : public YAML::EventHandler {
         std::string full = path();
         if (!full.empty()) full += '.';
         full += quote_value(*text);
-        throw ConfigError(full + ": given twice (line " + std::to_string(mark.line + 1) +
-                          " of " + origin_ + ")");
+        throw ConfigError(full + ": given twice (line " + std::to_string(mark.line + 1) + " of " +
+                          origin_ + ")");
       }
     }
     ++parent.children;
@@ -298,12 +301,12 @@ std::string quote_value(const std::string& s, std::size_t max) {
     } else {
       // C1 controls (U+0080-U+009F), line and paragraph separators and the bidirectional
       // overrides would break or reorder the line on a terminal: escaped like the C0 ones.
-      unsigned cp = n == 1 ? c
+      unsigned cp = n == 1   ? c
                     : n == 2 ? (c & 0x1Fu) << 6 | (static_cast<unsigned char>(s[i + 1]) & 0x3Fu)
-                    : n == 3 ? (c & 0x0Fu) << 12 |
-                                   (static_cast<unsigned char>(s[i + 1]) & 0x3Fu) << 6 |
-                                   (static_cast<unsigned char>(s[i + 2]) & 0x3Fu)
-                             : 0x10000;
+                    : n == 3
+                        ? (c & 0x0Fu) << 12 | (static_cast<unsigned char>(s[i + 1]) & 0x3Fu) << 6 |
+                              (static_cast<unsigned char>(s[i + 2]) & 0x3Fu)
+                        : 0x10000;
       const bool control = (cp >= 0x80 && cp <= 0x9F) || cp == 0x2028 || cp == 0x2029 ||
                            (cp >= 0x202A && cp <= 0x202E) || (cp >= 0x2066 && cp <= 0x2069);
       piece = control ? hex_escape("\\u", cp, 4) : s.substr(i, n);
@@ -376,7 +379,9 @@ bool whole_decimal(const std::string& s, bool& negative) {
 
 std::uint64_t parse_integer(const std::string& s, const std::string& name,
                             const IntegerRange& range, const std::string& text) {
-  auto refuse = [&](const std::string& why) { throw ConfigError(name + " = " + text + ": " + why); };
+  auto refuse = [&](const std::string& why) {
+    throw ConfigError(name + " = " + text + ": " + why);
+  };
   auto out_of_range = [&](bool above_max_integer) {
     if (above_max_integer && range.max >= kMaxInteger) refuse("too large (> 2^53)");
     refuse(range.allowed);
@@ -541,7 +546,8 @@ std::vector<double> Section::matrix(const std::string& key, std::size_t size) co
                         ": must be a list of " + std::to_string(size) + " numbers (a " + shape +
                         " matrix)");
     for (std::size_t j = 0; j < size; ++j)
-      out.push_back(real_of(n[i][j], key + "[" + std::to_string(i) + "][" + std::to_string(j) + "]"));
+      out.push_back(
+          real_of(n[i][j], key + "[" + std::to_string(i) + "][" + std::to_string(j) + "]"));
   }
   return out;
 }
@@ -600,15 +606,15 @@ void Section::check(bool ok, const std::string& key, double value,
 void Section::finish(const std::vector<std::string>& allowed_keys) const {
   for (const auto& kv : node_) {
     if (!kv.first.IsScalar())
-      throw ConfigError(name(shown(kv.first)) +
-                        ": unknown key (keys are plain names); allowed here: " +
-                        join(allowed_keys, ", "));
+      throw ConfigError(
+          name(shown(kv.first)) +
+          ": unknown key (keys are plain names); allowed here: " + join(allowed_keys, ", "));
     const std::string key = kv.first.Scalar();
     bool ok = false;
     for (const auto& a : allowed_keys) ok = ok || a == key;
     if (!ok)
-      throw ConfigError(name(quote_value(key)) + ": unknown key; allowed here: " +
-                        join(allowed_keys, ", "));
+      throw ConfigError(name(quote_value(key)) +
+                        ": unknown key; allowed here: " + join(allowed_keys, ", "));
   }
 }
 
@@ -620,7 +626,8 @@ YAML::Node load_yaml_with_overrides(const std::string& text, const std::string& 
   if (!root || root.IsNull()) {
     // An empty file is an error unless --set gives the whole config.
     if (overrides.empty())
-      throw ConfigError(origin + ": empty config; it needs at least model, seed and the section "
+      throw ConfigError(origin +
+                        ": empty config; it needs at least model, seed and the section "
                         "of the model");
     root = YAML::Node(YAML::NodeType::Map);
   }
@@ -634,8 +641,7 @@ YAML::Node load_yaml_with_overrides(const std::string& text, const std::string& 
     std::vector<std::string> parts;
     std::stringstream ss(key);
     for (std::string p; std::getline(ss, p, '.');) {
-      if (p.empty())
-        throw ConfigError(shown_item + ": empty component in key " + quote_value(key));
+      if (p.empty()) throw ConfigError(shown_item + ": empty component in key " + quote_value(key));
       parts.push_back(p);
     }
     if (key.back() == '.')

@@ -1,12 +1,14 @@
 // The `dsmc:` section: reading, validation and emission (schema: docs/config.md).
+#include "granboltz/dsmc/config.hpp"
+
 #include <sys/stat.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
-#include <cstring>
 #include <cstdio>
+#include <cstring>
 #include <string>
 #include <type_traits>
 #include <variant>
@@ -14,10 +16,9 @@
 
 #include "granboltz/config/reader.hpp"
 #include "granboltz/core/text_hash.hpp"
+#include "granboltz/dsmc/initial_state.hpp"
 #include "granboltz/h5/hdf5_io.hpp"
 #include "granboltz/h5/verify.hpp"
-#include "granboltz/dsmc/config.hpp"
-#include "granboltz/dsmc/initial_state.hpp"
 
 namespace granboltz {
 
@@ -54,28 +55,35 @@ RestitutionLaw read_restitution(const Section& s) {
 }
 
 void emit_restitution(YAML::Emitter& out, const RestitutionLaw& law) {
-  std::visit([&](const auto& l) {
-    using Law = std::decay_t<decltype(l)>;
-    out << YAML::Key << "restitution" << YAML::Value << YAML::Flow << YAML::BeginMap
-        << YAML::Key << "law" << YAML::Value << Law::kName;
-    for (const auto& p : Law::kParams)
-      out << YAML::Key << p.key << YAML::Value << format_real(l.*(p.value));
-    out << YAML::EndMap;
-  }, law);
+  std::visit(
+      [&](const auto& l) {
+        using Law = std::decay_t<decltype(l)>;
+        out << YAML::Key << "restitution" << YAML::Value << YAML::Flow << YAML::BeginMap
+            << YAML::Key << "law" << YAML::Value << Law::kName;
+        for (const auto& p : Law::kParams)
+          out << YAML::Key << p.key << YAML::Value << format_real(l.*(p.value));
+        out << YAML::EndMap;
+      },
+      law);
 }
 }  // namespace
 
 const char* scheme_name(Scheme s) {
   switch (s) {
-    case Scheme::kNoSplit: return "nosplit";
-    case Scheme::kEuler: return "euler";
-    case Scheme::kStrang: return "strang";
+    case Scheme::kNoSplit:
+      return "nosplit";
+    case Scheme::kEuler:
+      return "euler";
+    case Scheme::kStrang:
+      return "strang";
   }
   return "?";
 }
 
 const char* reduction_name(Reduction r) {
-  return r == Reduction::kHeatFlux ? "heat_flux" : r == Reduction::kUnbiased ? "unbiased" : "energy";
+  return r == Reduction::kHeatFlux   ? "heat_flux"
+         : r == Reduction::kUnbiased ? "unbiased"
+                                     : "energy";
 }
 
 std::uint64_t DsmcConfig::observations() const {
@@ -137,13 +145,13 @@ void read_observe(const Section& s, DsmcConfig& c) {
     t = o.reals("times", static_cast<std::size_t>(kMaxObservations));
     for (std::size_t i = 0; i < t.size(); ++i) {
       const std::string key = "times[" + std::to_string(i) + "]";
-      o.check(t[i] > 0 && t[i] <= c.t_end, key, t[i],
-              "must satisfy 0 < t <= t_end = " + format_real(c.t_end) +
-                  " (t = 0 is always observed)");
+      o.check(
+          t[i] > 0 && t[i] <= c.t_end, key, t[i],
+          "must satisfy 0 < t <= t_end = " + format_real(c.t_end) + " (t = 0 is always observed)");
       if (i > 0)
         o.check(t[i] > t[i - 1], key, t[i],
-                "must be greater than times[" + std::to_string(i - 1) + "] = " +
-                    format_real(t[i - 1]) + " (the times must increase)");
+                "must be greater than times[" + std::to_string(i - 1) +
+                    "] = " + format_real(t[i - 1]) + " (the times must increase)");
       if (split)
         o.check(is_multiple(t[i], dt), key, t[i],
                 "must be a whole multiple of the time step t_end/steps = " + format_real(dt) +
@@ -218,8 +226,9 @@ void read_roughness(const Section& s, DsmcConfig& c) {
   r.check(c.roughness.beta >= -1 && c.roughness.beta <= 1, "beta", c.roughness.beta,
           "must satisfy -1 <= beta <= 1 (-1 smooth, 1 perfectly rough)");
   const double max = c.dimension == 2 ? 1.0 : 2.0 / 3.0;
-  const std::string allowed = c.dimension == 2 ? "must satisfy 0 < inertia <= 1 (1/2: a uniform disk)"
-                                               : "must satisfy 0 < inertia <= 2/3 (2/5: a uniform sphere)";
+  const std::string allowed = c.dimension == 2
+                                  ? "must satisfy 0 < inertia <= 1 (1/2: a uniform disk)"
+                                  : "must satisfy 0 < inertia <= 2/3 (2/5: a uniform sphere)";
   if (r.is_mapping("inertia")) {
     if (!c.species_written)
       throw ConfigError(r.name("inertia") + ": per species needs dsmc.species; give a number");
@@ -272,7 +281,8 @@ void read_flight(const Section& s, const DsmcConfig& c, F, FlightParam& p) {
       f.check(std::isfinite(p.value) && std::abs(p.value) <= 1e150, F::kKey, p.value,
               "must be a finite number with |value| <= 1e150");
     else
-      f.check(p.value >= 0 && p.value <= 1e150, F::kKey, p.value, "must satisfy 0 <= value <= 1e150");
+      f.check(p.value >= 0 && p.value <= 1e150, F::kKey, p.value,
+              "must satisfy 0 <= value <= 1e150");
   }
   f.finish({F::kKey});
 }
@@ -293,19 +303,21 @@ void read_initial_from(const Section& init, DsmcConfig& c) {
   const std::string key = init.name("from");
   c.initial_from = init.path("from");
   auto refuse = [&](const std::string& why) {
-    std::string shown = c.initial_from.size() > 80 ? c.initial_from.substr(0, 77) + "..." : c.initial_from;
+    std::string shown =
+        c.initial_from.size() > 80 ? c.initial_from.substr(0, 77) + "..." : c.initial_from;
     throw ConfigError(key + " = " + shown + ": " + why);
   };
   if (!c.initial_temperature_tensor.empty() || !c.initial_heat_flux.empty() ||
       c.rotational_temperature_written)
-    refuse("the state comes from the source; give no temperature tensor, heat_flux or "
-           "rotational_temperature with it (a number for temperature is the Gaussian "
-           "thermostat's T0)");
+    refuse(
+        "the state comes from the source; give no temperature tensor, heat_flux or "
+        "rotational_temperature with it (a number for temperature is the Gaussian "
+        "thermostat's T0)");
   if (source_depth >= kMaxSourceDepth)
     refuse("a chain of more than 8 runs continued from one another (a cycle of files?)");
   // A FIFO would block the reader, a directory is not an output: a regular file (or a link to
   // one: an input may be a link into a results tree) only.
-  struct stat st{};
+  struct stat st {};
   if (::stat(c.initial_from.c_str(), &st) != 0)
     refuse(std::string("cannot be read: ") + std::strerror(errno));
   if (!S_ISREG(st.st_mode)) refuse("not a regular file (a granboltz output is one)");
@@ -370,18 +382,22 @@ void check_flights(const Section& s, const DsmcConfig& c) {
   const bool drag = s.has("drag"), shear = s.has("shear");
   const std::string key = shear ? s.name("shear") : drag ? s.name("drag") : s.name("beta");
   if (c.weights.swpm && (drag || shear || !c.beta_species.empty()))
-    throw ConfigError(key + ": not available with dsmc.weights (weighted particles keep white "
+    throw ConfigError(key +
+                      ": not available with dsmc.weights (weighted particles keep white "
                       "noise of one strength only)");
   if (c.general() && shear)
-    throw ConfigError(s.name("shear") + ": not available for mixtures or rough particles "
+    throw ConfigError(s.name("shear") +
+                      ": not available for mixtures or rough particles "
                       "(dsmc.species, dsmc.roughness); shear flow runs one smooth species");
   if (!shear) return;
   if (c.majorant == MajorantKind::kPairwise)
-    throw ConfigError(s.name("majorant") + " = pairwise: not exact with dsmc.shear (the drift "
+    throw ConfigError(s.name("majorant") +
+                      " = pairwise: not exact with dsmc.shear (the drift "
                       "between events moves the weights); use majorant: global or auto");
   if (c.thermostat == Thermostat::kGaussian && c.scheme == Scheme::kNoSplit &&
       (c.kernel.lambda != 0 || !is_constant(c.restitution)))
-    throw ConfigError(s.name("shear") + ": with thermostat gaussian and scheme nosplit needs "
+    throw ConfigError(s.name("shear") +
+                      ": with thermostat gaussian and scheme nosplit needs "
                       "kernel.lambda = 0 and a constant alpha (the scale then never enters an "
                       "event); use scheme strang (or euler) for this kernel");
 }
@@ -395,12 +411,14 @@ DsmcConfig read_dsmc(const Section& s) {
   c.kernel.area = c.dimension == 2 ? 2.0 * M_PI : 4.0 * M_PI;
   // Hard disks need the impact law (uniform directions are another model there); in d = 3 the
   // two are one law and the papers' name stays the default.
-  c.geometry = s.choice("geometry", {"impact", "uniform"}, c.dimension == 2 ? "impact" : "uniform") ==
-                       "impact"
-                   ? Geometry::kImpact : Geometry::kUniform;
+  c.geometry = s.choice("geometry", {"impact", "uniform"},
+                        c.dimension == 2 ? "impact" : "uniform") == "impact"
+                   ? Geometry::kImpact
+                   : Geometry::kUniform;
   const std::string scheme = s.choice("scheme", {"nosplit", "euler", "strang"}, "nosplit");
-  c.scheme = scheme == "euler" ? Scheme::kEuler
-             : scheme == "strang" ? Scheme::kStrang : Scheme::kNoSplit;
+  c.scheme = scheme == "euler"    ? Scheme::kEuler
+             : scheme == "strang" ? Scheme::kStrang
+                                  : Scheme::kNoSplit;
 
   if (s.has("species")) read_species(s, c);
   if (s.has("restitution")) {
@@ -412,7 +430,8 @@ DsmcConfig read_dsmc(const Section& s) {
     if (const auto* k = std::get_if<ConstantRestitution>(&c.restitution)) c.alpha = k->alpha;
   } else if (s.is_sequence("alpha")) {
     if (!c.species_written)
-      throw ConfigError(s.name("alpha") + ": a matrix needs dsmc.species (one row per species); "
+      throw ConfigError(s.name("alpha") +
+                        ": a matrix needs dsmc.species (one row per species); "
                         "without species alpha is a number");
     const std::size_t K = c.species.size();
     c.alpha_matrix = s.matrix("alpha", K);
@@ -455,7 +474,8 @@ DsmcConfig read_dsmc(const Section& s) {
     read_flight(s, c, f, c.flights[k]);
   });
   if (c.drag_gamma() > 0 && c.thermostat == Thermostat::kGaussian)
-    throw ConfigError(s.name("drag") + ": given with thermostat gaussian, which holds T itself "
+    throw ConfigError(s.name("drag") +
+                      ": given with thermostat gaussian, which holds T itself "
                       "(it would absorb the drag); use thermostat white_noise (drag with noise) "
                       "or none (drag alone)");
   c.kernel.gamma = s.real("gamma", 1.0);
@@ -493,7 +513,8 @@ DsmcConfig read_dsmc(const Section& s) {
                         "> 0, e.g. |T_xy| < sqrt(T_xx T_yy))");
     }
     c.initial_temperature = 0.0;  // tr T / d, summed so that it cannot overflow
-    for (std::size_t a = 0; a < d; ++a) c.initial_temperature += T[a * d + a] / static_cast<double>(d);
+    for (std::size_t a = 0; a < d; ++a)
+      c.initial_temperature += T[a * d + a] / static_cast<double>(d);
   } else {
     c.initial_temperature = init.real("temperature", 1.0);
     init.check(c.initial_temperature > 0, "temperature", c.initial_temperature, "must be > 0");
@@ -540,8 +561,7 @@ DsmcConfig read_dsmc(const Section& s) {
     s.check(is_multiple(c.t_end, c.observe_every), "observe_every", c.observe_every,
             "t_end = " + format_real(c.t_end) + " must be a whole multiple of it");
     s.check(c.t_end / c.observe_every < 1e7 + 0.5 && c.observations() <= 10'000'000,
-            "observe_every", c.observe_every,
-            "gives more than 10^7 observation times");
+            "observe_every", c.observe_every, "gives more than 10^7 observation times");
   }
 
   if (c.scheme == Scheme::kNoSplit) {
@@ -552,9 +572,9 @@ DsmcConfig read_dsmc(const Section& s) {
                         "; the time step is t_end / steps)");
     c.steps = s.integer("steps", {1, kMaxInteger, "must be >= 1"});
     if (!grid)
-      s.check(is_multiple(c.observe_every, c.time_step()), "observe_every", c.observe_every,
-              "must be a whole multiple of the time step t_end/steps = " +
-                  format_real(c.time_step()));
+      s.check(
+          is_multiple(c.observe_every, c.time_step()), "observe_every", c.observe_every,
+          "must be a whole multiple of the time step t_end/steps = " + format_real(c.time_step()));
   }
   if (grid) read_observe(s, c);
 
@@ -575,17 +595,21 @@ DsmcConfig read_dsmc(const Section& s) {
   c.majorant_auto = majorant == "auto";
   c.majorant = majorant == "pairwise" ? MajorantKind::kPairwise : MajorantKind::kGlobal;
   if (c.majorant == MajorantKind::kPairwise && c.kernel.lambda == 0)
-    throw ConfigError(s.name("majorant") + " = pairwise: needs kernel.lambda > 0 (for Maxwell "
+    throw ConfigError(s.name("majorant") +
+                      " = pairwise: needs kernel.lambda > 0 (for Maxwell "
                       "molecules every pair has the same rate and the global majorant is exact)");
   if (c.majorant == MajorantKind::kPairwise && c.scheme == Scheme::kNoSplit && c.beta > 0)
-    throw ConfigError(s.name("majorant") + " = pairwise: not exact for scheme nosplit with beta > 0 "
+    throw ConfigError(s.name("majorant") +
+                      " = pairwise: not exact for scheme nosplit with beta > 0 "
                       "(the kicks between events break the pairwise bound); use it with beta = 0 "
                       "or with scheme euler or strang, or use majorant: global");
   // A user's run gets the true bound; the reproduction profiles ask for `paper` explicitly.
   c.majorant_update = s.choice("majorant_update", {"paper", "strict"}, "strict") == "strict"
-                          ? MajorantUpdate::kStrict : MajorantUpdate::kPaper;
-  c.moments = static_cast<int>(s.integer(
-      "moments", 4, {0, static_cast<std::uint64_t>(kMaxMoments), "must satisfy 0 <= moments <= 16"}));
+                          ? MajorantUpdate::kStrict
+                          : MajorantUpdate::kPaper;
+  c.moments = static_cast<int>(
+      s.integer("moments", 4,
+                {0, static_cast<std::uint64_t>(kMaxMoments), "must satisfy 0 <= moments <= 16"}));
   if (s.has("steady_from")) {
     c.steady = true;
     c.steady_from = s.real("steady_from");
@@ -619,14 +643,16 @@ DsmcConfig read_dsmc(const Section& s) {
               c.weights.min_weight, "must satisfy 1e-200 <= min_weight <= 1e-3");
     } else if (w.has("min_weight")) {
       throw ConfigError(w.name("min_weight") + ": only with reduction: unbiased (the merges of " +
-                        std::string(reduction_name(c.weights.reduction)) + " keep no weight floor)");
+                        std::string(reduction_name(c.weights.reduction)) +
+                        " keep no weight floor)");
     }
     if (w.has("split")) {
       const Section sp = w.sub("split");
       SplitSpec& x = c.weights.split;
       x.on = true;
       x.radius = sp.real("radius");
-      sp.check(x.radius > 0 && x.radius < 1e6, "radius", x.radius, "must satisfy 0 < radius < 10^6");
+      sp.check(x.radius > 0 && x.radius < 1e6, "radius", x.radius,
+               "must satisfy 0 < radius < 10^6");
       x.rate = sp.real("rate");
       sp.check(x.rate > 0 && x.rate <= 1e3, "rate", x.rate, "must satisfy 0 < rate <= 10^3");
       x.power = sp.real("power", 1.0);
@@ -651,23 +677,25 @@ DsmcConfig read_dsmc(const Section& s) {
       throw ConfigError(s.name("weights") + ": method swpm supports only majorant: global");
     // Merges into two points lower every group's fourth moment, and where they are frequent the
     // bias reaches the bulk: measured steady a2 (hard spheres, alpha 0.6, N_max = 3n) -0.19 and
-    // -0.11 without split (Gaussian, white noise) and -0.15 with split under the Gaussian thermostat,
-    // against +0.008 ... +0.016 for constant weights; with split and white noise it agreed.
+    // -0.11 without split (Gaussian, white noise) and -0.15 with split under the Gaussian
+    // thermostat, against +0.008 ... +0.016 for constant weights; with split and white noise it
+    // agreed.
     if (c.weights.reduction != Reduction::kUnbiased &&
         (!c.weights.split.on || c.thermostat == Thermostat::kGaussian))
-      throw ConfigError(
-          w.name("reduction") + " = " + reduction_name(c.weights.reduction) +
-          ": its merges bias the bulk (measured steady a2 -0.1 to -0.2) " +
-          (c.weights.split.on ? std::string("under the gaussian thermostat")
-                              : std::string("without split")) +
-          "; use reduction: unbiased (the default)");
+      throw ConfigError(w.name("reduction") + " = " + reduction_name(c.weights.reduction) +
+                        ": its merges bias the bulk (measured steady a2 -0.1 to -0.2) " +
+                        (c.weights.split.on ? std::string("under the gaussian thermostat")
+                                            : std::string("without split")) +
+                        "; use reduction: unbiased (the default)");
   }
   if (c.general()) {
     // What the general gas engine (dsmc/gas.cpp) implements; refused rather than half-done.
     const std::string what = c.species_written ? "dsmc.species" : "dsmc.roughness";
     if (c.weights.swpm)
-      throw ConfigError(s.name("weights") + ": method swpm supports one species of smooth "
-                        "particles, not " + what);
+      throw ConfigError(s.name("weights") +
+                        ": method swpm supports one species of smooth "
+                        "particles, not " +
+                        what);
     if (!c.majorant_auto && c.majorant == MajorantKind::kPairwise)
       throw ConfigError(s.name("majorant") + " = pairwise: not available with " + what +
                         "; use majorant: global (one bound per pair of species)");
@@ -686,10 +714,12 @@ DsmcConfig read_dsmc(const Section& s) {
   if (c.majorant_auto) c.majorant = auto_majorant(c);
   check_flights(s, c);
   if (s.has("correlations")) read_correlations(s, c);
-  s.finish({"particles", "species", "roughness", "dimension", "geometry", "scheme", "steps", "alpha", "beta", "drag", "shear", "thermostat", "gamma", "kernel",
-            "initial", "t_end", "observe_every", "observe", "histogram", "majorant", "majorant_update",
-            "moments", "restitution",
-            "steady_from", "steady_ci", "weights", "correlations"});
+  s.finish({"particles",       "species",       "roughness",   "dimension",   "geometry",
+            "scheme",          "steps",         "alpha",       "beta",        "drag",
+            "shear",           "thermostat",    "gamma",       "kernel",      "initial",
+            "t_end",           "observe_every", "observe",     "histogram",   "majorant",
+            "majorant_update", "moments",       "restitution", "steady_from", "steady_ci",
+            "weights",         "correlations"});
   return c;
 }
 
@@ -709,9 +739,9 @@ void emit_dsmc(YAML::Emitter& out, const DsmcConfig& c) {
     out << YAML::Key << "species" << YAML::Value << YAML::BeginSeq;
     for (const auto& sp : c.species)
       out << YAML::Flow << YAML::BeginMap << YAML::Key << "name" << YAML::Value << sp.name
-          << YAML::Key << "fraction" << YAML::Value << format_real(sp.fraction)
-          << YAML::Key << "mass" << YAML::Value << format_real(sp.mass)
-          << YAML::Key << "diameter" << YAML::Value << format_real(sp.diameter) << YAML::EndMap;
+          << YAML::Key << "fraction" << YAML::Value << format_real(sp.fraction) << YAML::Key
+          << "mass" << YAML::Value << format_real(sp.mass) << YAML::Key << "diameter" << YAML::Value
+          << format_real(sp.diameter) << YAML::EndMap;
     out << YAML::EndSeq;
   }
   if (!c.alpha_matrix.empty()) {
@@ -729,9 +759,9 @@ void emit_dsmc(YAML::Emitter& out, const DsmcConfig& c) {
     emit_restitution(out, c.restitution);
   }
   if (c.roughness.on) {
-    out << YAML::Key << "roughness" << YAML::Value << YAML::Flow << YAML::BeginMap
-        << YAML::Key << "beta" << YAML::Value << format_real(c.roughness.beta)
-        << YAML::Key << "inertia" << YAML::Value;
+    out << YAML::Key << "roughness" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
+        << "beta" << YAML::Value << format_real(c.roughness.beta) << YAML::Key << "inertia"
+        << YAML::Value;
     if (c.roughness.inertia_per_species) {
       out << YAML::Flow << YAML::BeginMap;
       for (const auto& sp : c.species)
@@ -768,11 +798,11 @@ void emit_dsmc(YAML::Emitter& out, const DsmcConfig& c) {
   });
   out << YAML::Key << "thermostat" << YAML::Value << thermostat_name(c.thermostat);
   out << YAML::Key << "gamma" << YAML::Value << format_real(c.kernel.gamma);
-  out << YAML::Key << "kernel" << YAML::Value << YAML::Flow << YAML::BeginMap
-      << YAML::Key << "lambda" << YAML::Value << format_real(c.kernel.lambda)
-      << YAML::Key << "C" << YAML::Value << format_real(c.kernel.C) << YAML::EndMap;
-  out << YAML::Key << "initial" << YAML::Value << YAML::Flow << YAML::BeginMap
-      << YAML::Key << "temperature" << YAML::Value;
+  out << YAML::Key << "kernel" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
+      << "lambda" << YAML::Value << format_real(c.kernel.lambda) << YAML::Key << "C" << YAML::Value
+      << format_real(c.kernel.C) << YAML::EndMap;
+  out << YAML::Key << "initial" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
+      << "temperature" << YAML::Value;
   if (c.initial_temperature_tensor.empty()) {
     out << format_real(c.initial_temperature);
   } else {
@@ -780,7 +810,8 @@ void emit_dsmc(YAML::Emitter& out, const DsmcConfig& c) {
     out << YAML::Flow << YAML::BeginSeq;
     for (std::size_t a = 0; a < d; ++a) {
       out << YAML::Flow << YAML::BeginSeq;
-      for (std::size_t b = 0; b < d; ++b) out << format_real(c.initial_temperature_tensor[a * d + b]);
+      for (std::size_t b = 0; b < d; ++b)
+        out << format_real(c.initial_temperature_tensor[a * d + b]);
       out << YAML::EndSeq;
     }
     out << YAML::EndSeq;
@@ -806,8 +837,8 @@ void emit_dsmc(YAML::Emitter& out, const DsmcConfig& c) {
     out << YAML::Key << "observe" << YAML::Value << YAML::Flow << YAML::BeginMap;
     if (c.observe_per_decade) {
       out << YAML::Key << "log" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
-          << "from" << YAML::Value << format_real(c.observe_log_from) << YAML::Key
-          << "per_decade" << YAML::Value << c.observe_per_decade << YAML::EndMap;
+          << "from" << YAML::Value << format_real(c.observe_log_from) << YAML::Key << "per_decade"
+          << YAML::Value << c.observe_per_decade << YAML::EndMap;
     } else {  // the times as read, t_end included: read again, the same grid
       out << YAML::Key << "times" << YAML::Value << YAML::Flow << YAML::BeginSeq;
       for (double t : c.observe_times) out << format_real(t);
@@ -816,10 +847,10 @@ void emit_dsmc(YAML::Emitter& out, const DsmcConfig& c) {
     out << YAML::EndMap;
   }
   if (c.histogram.shells > 0) {
-    out << YAML::Key << "histogram" << YAML::Value << YAML::Flow << YAML::BeginMap
-        << YAML::Key << "shells" << YAML::Value << c.histogram.shells
-        << YAML::Key << "radius" << YAML::Value << format_real(c.histogram.radius)
-        << YAML::Key << "center" << YAML::Value << (c.histogram.bulk ? "bulk" : "origin");
+    out << YAML::Key << "histogram" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
+        << "shells" << YAML::Value << c.histogram.shells << YAML::Key << "radius" << YAML::Value
+        << format_real(c.histogram.radius) << YAML::Key << "center" << YAML::Value
+        << (c.histogram.bulk ? "bulk" : "origin");
     if (c.histogram.component) out << YAML::Key << "component" << YAML::Value << "true";
     out << YAML::EndMap;
   }
@@ -835,18 +866,17 @@ void emit_dsmc(YAML::Emitter& out, const DsmcConfig& c) {
         << (c.steady_ci_independent ? "independent" : "batch");
   }
   if (c.weights.swpm) {  // absent for constant weights: their provenance stays as before
-    out << YAML::Key << "weights" << YAML::Value << YAML::Flow << YAML::BeginMap
-        << YAML::Key << "method" << YAML::Value << "swpm"
-        << YAML::Key << "kappa" << YAML::Value << format_real(c.weights.kappa)
-        << YAML::Key << "max_particles" << YAML::Value << c.weights.max_particles
-        << YAML::Key << "reduction" << YAML::Value << reduction_name(c.weights.reduction);
+    out << YAML::Key << "weights" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
+        << "method" << YAML::Value << "swpm" << YAML::Key << "kappa" << YAML::Value
+        << format_real(c.weights.kappa) << YAML::Key << "max_particles" << YAML::Value
+        << c.weights.max_particles << YAML::Key << "reduction" << YAML::Value
+        << reduction_name(c.weights.reduction);
     if (c.weights.reduction == Reduction::kUnbiased)
       out << YAML::Key << "min_weight" << YAML::Value << format_real(c.weights.min_weight);
     if (const SplitSpec& x = c.weights.split; x.on) {
-      out << YAML::Key << "split" << YAML::Value << YAML::BeginMap
-          << YAML::Key << "radius" << YAML::Value << format_real(x.radius)
-          << YAML::Key << "rate" << YAML::Value << format_real(x.rate)
-          << YAML::Key << "power" << YAML::Value << format_real(x.power)
+      out << YAML::Key << "split" << YAML::Value << YAML::BeginMap << YAML::Key << "radius"
+          << YAML::Value << format_real(x.radius) << YAML::Key << "rate" << YAML::Value
+          << format_real(x.rate) << YAML::Key << "power" << YAML::Value << format_real(x.power)
           << YAML::Key << "interval" << YAML::Value << format_real(x.interval);
       if (std::isfinite(x.max_radius))
         out << YAML::Key << "max_radius" << YAML::Value << format_real(x.max_radius);
@@ -873,8 +903,7 @@ MajorantKind auto_majorant(const DsmcConfig& c) {
   const bool kicks_between_events =
       c.scheme == Scheme::kNoSplit && c.thermostat == Thermostat::kWhiteNoise && c.beta > 0;
   if (c.kernel.lambda == 0 || kicks_between_events || c.weights.swpm || c.general() ||
-      c.shear_rate() != 0.0 ||
-      c.particles > kAutoPairwiseMaxParticles)
+      c.shear_rate() != 0.0 || c.particles > kAutoPairwiseMaxParticles)
     return MajorantKind::kGlobal;
   return MajorantKind::kPairwise;
 }

@@ -21,7 +21,8 @@ namespace granboltz {
 class Section;
 
 enum class Scheme { kNoSplit, kEuler, kStrang };
-/// global: U_max = 2 max|v - V| for all pairs (the papers); pairwise: B_ij <= C(|v_i-V|+|v_j-V|)^lambda.
+/// global: U_max = 2 max|v - V| for all pairs (the papers); pairwise: B_ij <=
+/// C(|v_i-V|+|v_j-V|)^lambda.
 enum class MajorantKind { kGlobal, kPairwise };
 /// paper: U_max := max(U_max, |v_i - V|, |v_j - V|) (GRW05 2.7/2.10, RW05 eq. 21), the
 /// truncated kernel of RW05 eq. (19); strict: U_max := max(U_max, 2|v_i - V|, 2|v_j - V|).
@@ -52,8 +53,8 @@ struct HistogramSpec {
 enum class Reduction { kEnergy, kHeatFlux, kUnbiased };
 /// dsmc.weights.split: importance splitting along the diffusion path. Every `interval`
 /// all particles are kicked to the current time; one beyond `radius` from V heavier than twice
-/// its target weight w*(r) = (1/n) (r/radius)^2 exp(-rate (r^power - radius^power)) is split into equal
-/// copies, and light ones (below w*/4) play pairwise roulette within a band of w*.
+/// its target weight w*(r) = (1/n) (r/radius)^2 exp(-rate (r^power - radius^power)) is split into
+/// equal copies, and light ones (below w*/4) play pairwise roulette within a band of w*.
 struct SplitSpec {
   bool on = false;
   double radius = 0.0;    ///< r_s: no splitting at |v - V| <= r_s
@@ -64,14 +65,14 @@ struct SplitSpec {
 };
 
 struct WeightsSpec {
-  bool swpm = false;               ///< false: constant weights 1/n (the papers)
-  double kappa = 0.0;              ///< kappa >= 0: pair rate (1 + kappa) max(g_i, g_j) B
-  std::uint64_t max_particles = 0; ///< N_max: a reduction runs when the count exceeds it
+  bool swpm = false;                ///< false: constant weights 1/n (the papers)
+  double kappa = 0.0;               ///< kappa >= 0: pair rate (1 + kappa) max(g_i, g_j) B
+  std::uint64_t max_particles = 0;  ///< N_max: a reduction runs when the count exceeds it
   Reduction reduction = Reduction::kUnbiased;
   /// kUnbiased: particles lighter than min_weight times their target weight (1/n, or w*(r) with
   /// split) are thinned away at every reduction.
   double min_weight = 1e-30;
-  SplitSpec split;                 ///< dsmc.weights.split (absent: off)
+  SplitSpec split;  ///< dsmc.weights.split (absent: off)
 };
 
 /// One species of a mixture (dsmc.species). The particles of species a are the block
@@ -81,7 +82,7 @@ struct SpeciesSpec {
   double fraction = 1.0;  ///< x_a as written; count = N_a from the largest remainder of x_a n
   double mass = 1.0;
   double diameter = 1.0;
-  double inertia = 0.0;   ///< kappa_a = 4 I_a/(m_a sigma_a^2) (rough particles)
+  double inertia = 0.0;  ///< kappa_a = 4 I_a/(m_a sigma_a^2) (rough particles)
   std::uint64_t count = 0, offset = 0;
   /// I_a = kappa_a m_a (sigma_a/2)^2.
   double moment_of_inertia() const { return inertia * mass * 0.25 * diameter * diameter; }
@@ -92,7 +93,7 @@ struct SpeciesSpec {
 struct RoughnessSpec {
   bool on = false;
   double beta = -1.0;
-  double inertia = 0.4;          ///< kappa of every species unless given per species
+  double inertia = 0.4;  ///< kappa of every species unless given per species
   bool inertia_per_species = false;
 };
 
@@ -140,8 +141,8 @@ inline constexpr std::size_t kMaxSpecies = 16;
 struct SourceRun;
 
 struct DsmcConfig {
-  std::uint64_t particles = 0;  ///< n
-  int dimension = 3;            ///< d: velocities in R^d (2: z = 0)
+  std::uint64_t particles = 0;             ///< n
+  int dimension = 3;                       ///< d: velocities in R^d (2: z = 0)
   Geometry geometry = Geometry::kUniform;  ///< default impact in d = 2, uniform in d = 3
   Scheme scheme = Scheme::kNoSplit;
   std::uint64_t steps = 0;  ///< K: time steps of the splitting schemes, dt = t_end / K
@@ -149,13 +150,13 @@ struct DsmcConfig {
   /// dsmc.restitution: the law eps(g_n). ConstantRestitution{alpha} unless another law is given
   /// (then alpha is 1 and unused).
   RestitutionLaw restitution;
-  double beta = 0.0;        ///< heating strength (white noise), >= 0; the largest if per species
+  double beta = 0.0;  ///< heating strength (white noise), >= 0; the largest if per species
   std::vector<double> beta_species;  ///< dsmc.beta as a mapping of species names (else empty)
   /// dsmc.drag, dsmc.shear: the section flights' parameters, in flight::SectionFlights order.
   std::array<FlightParam, flight::SectionFlights::kCount> flights{};
   std::array<bool, flight::SectionFlights::kCount> flight_written{};  ///< the section was given
   Thermostat thermostat = Thermostat::kWhiteNoise;
-  VhsKernel kernel;         ///< lambda, C, and gamma (the prefactor of the collision term)
+  VhsKernel kernel;                  ///< lambda, C, and gamma (the prefactor of the collision term)
   double initial_temperature = 1.0;  ///< T0; with a tensor its trace / d
   /// dsmc.initial.temperature written as a d x d matrix: the temperature tensor of an anisotropic
   /// Maxwellian (row-major, symmetric, positive definite); empty: isotropic at T0.
@@ -175,19 +176,19 @@ struct DsmcConfig {
   MajorantKind majorant = MajorantKind::kGlobal;  ///< the majorant used (auto resolved)
   bool majorant_auto = false;  ///< dsmc.majorant: auto (the default) chose `majorant`
   MajorantUpdate majorant_update = MajorantUpdate::kStrict;
-  int moments = 4;          ///< P: observe <|v - V|^{2p}> for p = 1..P (0 <= P <= kMaxMoments)
-  bool steady = false;      ///< time averages over the observations with t > steady_from
+  int moments = 4;      ///< P: observe <|v - V|^{2p}> for p = 1..P (0 <= P <= kMaxMoments)
+  bool steady = false;  ///< time averages over the observations with t > steady_from
   double steady_from = 0.0;
   /// dsmc.steady_ci: batch (the default) gives /steady intervals from independent ensembles or
   /// within-ensemble blocking; independent treats every (ensemble, t_m) sample as independent,
   /// which is what the reproduction profiles ask for (their outputs keep their bits).
   bool steady_ci_independent = false;
-  WeightsSpec weights;      ///< dsmc.weights (absent: constant weights)
+  WeightsSpec weights;            ///< dsmc.weights (absent: constant weights)
   CorrelationsSpec correlations;  ///< dsmc.correlations (absent: none)
   /// dsmc.species (empty: one species of unit mass and diameter, the papers' gas). Filled for
   /// every general run (see general()), with one unnamed species if none was written.
   std::vector<SpeciesSpec> species;
-  bool species_written = false;    ///< dsmc.species was given
+  bool species_written = false;      ///< dsmc.species was given
   std::vector<double> alpha_matrix;  ///< K x K restitution coefficients when written as a matrix
   RoughnessSpec roughness;
   double initial_rotational_temperature = 1.0;  ///< T_rot(0) (rough), default the temperature

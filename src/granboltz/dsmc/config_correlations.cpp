@@ -69,8 +69,7 @@ void read_one(const Section& o, int k, const DsmcConfig& c, CorrelationSpec& x) 
   x.averaging = static_cast<unsigned>(o.integer(
       "averaging", 2, {2, 1024, "must satisfy 2 <= averaging <= points and divide points"}));
   o.check(x.averaging <= x.points && x.points % x.averaging == 0, "averaging", x.averaging,
-          "must satisfy 2 <= averaging <= points = " + std::to_string(x.points) +
-              " and divide it");
+          "must satisfy 2 <= averaging <= points = " + std::to_string(x.points) + " and divide it");
   o.check(x.points <= x.samples, "every", x.every,
           "gives " + std::to_string(x.samples) + " samples from " + format_real(x.from) +
               " to t_end, fewer than points = " + std::to_string(x.points));
@@ -80,10 +79,12 @@ void read_one(const Section& o, int k, const DsmcConfig& c, CorrelationSpec& x) 
     return static_cast<double>(x.points) * std::pow(double(x.averaging), double(K) - 1.0);
   };
   if (o.has("levels")) {
-    x.levels = static_cast<unsigned>(o.integer("levels", {1, 60, "must satisfy 1 <= levels <= 60"}));
+    x.levels =
+        static_cast<unsigned>(o.integer("levels", {1, 60, "must satisfy 1 <= levels <= 60"}));
     o.check(reach(x.levels) <= static_cast<double>(x.samples), "levels", x.levels,
             "reaches lags beyond the " + std::to_string(x.samples) + " samples from " +
-                format_real(x.from) + " to t_end (points averaging^(levels-1) must not exceed them)");
+                format_real(x.from) +
+                " to t_end (points averaging^(levels-1) must not exceed them)");
   } else {
     x.levels = 1;
     while (x.levels < 60 && reach(x.levels + 1) <= 0.5 * static_cast<double>(x.samples)) ++x.levels;
@@ -92,10 +93,11 @@ void read_one(const Section& o, int k, const DsmcConfig& c, CorrelationSpec& x) 
   std::vector<std::string> keys = {"every", "from", "points", "averaging", "levels"};
   if (k == 0) {
     const std::uint64_t fewest = smallest_species(c);
-    x.particles = o.integer(
-        "particles", std::min(kDefaultTagged, fewest),
-        {1, fewest, "must satisfy 1 <= particles <= " + std::to_string(fewest) +
-                        (c.species_written ? " (the smallest species)" : " (dsmc.particles)")});
+    x.particles =
+        o.integer("particles", std::min(kDefaultTagged, fewest),
+                  {1, fewest,
+                   "must satisfy 1 <= particles <= " + std::to_string(fewest) +
+                       (c.species_written ? " (the smallest species)" : " (dsmc.particles)")});
     keys.push_back("particles");
   }
   o.finish(keys);
@@ -126,10 +128,12 @@ void read_correlations(const Section& s, DsmcConfig& c) {
                       "the defaults)");
   // Where a correlation cannot be sampled exactly, one line naming the key.
   if (c.weights.swpm)
-    throw ConfigError(s.name("correlations") + ": not available with dsmc.weights (weighted "
+    throw ConfigError(s.name("correlations") +
+                      ": not available with dsmc.weights (weighted "
                       "particles are split and merged: none keeps its identity)");
   if (c.scheme != Scheme::kNoSplit)
-    throw ConfigError(s.name("correlations") + ": needs scheme nosplit (the splitting schemes "
+    throw ConfigError(s.name("correlations") +
+                      ": needs scheme nosplit (the splitting schemes "
                       "advance in whole time steps, the samples fall between them)");
   for (int k = 0; k < 3; ++k)
     if (o.has(kNames[k])) read_one(o.sub(kNames[k]), k, c, *spec(c.correlations, k));
@@ -141,12 +145,11 @@ void emit_correlations(YAML::Emitter& out, const DsmcConfig& c) {
   for (int k = 0; k < 3; ++k) {
     const CorrelationSpec& x = *spec(c.correlations, k);
     if (!x.on) continue;
-    out << YAML::Key << kNames[k] << YAML::Value << YAML::Flow << YAML::BeginMap
-        << YAML::Key << "every" << YAML::Value << format_real(x.every)
-        << YAML::Key << "from" << YAML::Value << format_real(x.from)
-        << YAML::Key << "points" << YAML::Value << x.points
-        << YAML::Key << "averaging" << YAML::Value << x.averaging
-        << YAML::Key << "levels" << YAML::Value << x.levels;
+    out << YAML::Key << kNames[k] << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
+        << "every" << YAML::Value << format_real(x.every) << YAML::Key << "from" << YAML::Value
+        << format_real(x.from) << YAML::Key << "points" << YAML::Value << x.points << YAML::Key
+        << "averaging" << YAML::Value << x.averaging << YAML::Key << "levels" << YAML::Value
+        << x.levels;
     if (k == 0) out << YAML::Key << "particles" << YAML::Value << x.particles;
     out << YAML::EndMap;
   }

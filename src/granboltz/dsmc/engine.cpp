@@ -3,8 +3,8 @@
 #include <stdexcept>
 
 #include "granboltz/dsmc/gas.hpp"
-#include "granboltz/dsmc/initial_from.hpp"
 #include "granboltz/dsmc/gas_observables.hpp"
+#include "granboltz/dsmc/initial_from.hpp"
 #include "granboltz/dsmc/weighted.hpp"
 #include "granboltz/random/rng.hpp"
 
@@ -33,7 +33,9 @@ class PapersGas final : public Ensemble {
   explicit PapersGas(const DsmcConfig& d, Args&&... args)
       : e_(d, std::forward<Args>(args)...), block_{0, e_.particles().size()} {}
   const char* engine() const override { return "dsmc"; }
-  bool advance_to(double s, const std::atomic<bool>* pause) override { return e_.advance_to(s, pause); }
+  bool advance_to(double s, const std::atomic<bool>* pause) override {
+    return e_.advance_to(s, pause);
+  }
   double time() const override { return e_.time(); }
   ParticleView view() const override { return {e_.particles(), {}, {}, {&block_, 1}}; }
   void save(H5Writer& out, const std::string& group) const override { e_.save(out, group); }
@@ -57,7 +59,9 @@ class GeneralGas final : public Ensemble {
     for (const SpeciesSpec& sp : d.species) blocks_.push_back({sp.offset, sp.count});
   }
   const char* engine() const override { return "gas"; }
-  bool advance_to(double s, const std::atomic<bool>* pause) override { return e_.advance_to(s, pause); }
+  bool advance_to(double s, const std::atomic<bool>* pause) override {
+    return e_.advance_to(s, pause);
+  }
   double time() const override { return e_.time(); }
   ParticleView view() const override { return {e_.particles(), e_.spins(), {}, blocks_}; }
   void save(H5Writer& out, const std::string& group) const override { e_.save(out, group); }
@@ -88,11 +92,12 @@ class Weighted final : public Ensemble {
  public:
   template <class... Args>
   explicit Weighted(const DsmcConfig& d, Args&&... args)
-      : e_(d, std::forward<Args>(args)...),
-        gaussian_(d.thermostat == Thermostat::kGaussian) {}
+      : e_(d, std::forward<Args>(args)...), gaussian_(d.thermostat == Thermostat::kGaussian) {}
   const char* engine() const override { return "weighted"; }
   bool weighted() const override { return true; }
-  bool advance_to(double s, const std::atomic<bool>* pause) override { return e_.advance_to(s, pause); }
+  bool advance_to(double s, const std::atomic<bool>* pause) override {
+    return e_.advance_to(s, pause);
+  }
   double time() const override { return e_.time(); }
   ParticleView view() const override {
     block_ = {0, e_.particles().size()};  // the particle number changes as the run goes

@@ -32,15 +32,15 @@ struct SpeciesBlock {
 /// A view of the particles at the engine's time (valid until the next call that changes it).
 struct ParticleView {
   std::span<const Particle> particles;
-  std::span<const Vec3> spins;       ///< rough particles: one per particle; empty otherwise
-  std::span<const double> weights;   ///< weighted particles: one per particle; empty otherwise
+  std::span<const Vec3> spins;            ///< rough particles: one per particle; empty otherwise
+  std::span<const double> weights;        ///< weighted particles: one per particle; empty otherwise
   std::span<const SpeciesBlock> species;  ///< one block per species (one for a single species)
 };
 
 /// Where one observation row goes (the run driver's per-ensemble rows; the Python observe()
 /// passes only `moments` and `rows`): null pointers and empty spans are not filled.
 struct RowTargets {
-  std::span<double> moments;             ///< <|v - V|^{2p}>, p = 1..dsmc.moments
+  std::span<double> moments;               ///< <|v - V|^{2p}>, p = 1..dsmc.moments
   std::vector<double*> rows, row_moments;  ///< the rows of extra_row_sets() (general gas)
 };
 

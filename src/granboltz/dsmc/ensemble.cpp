@@ -5,14 +5,14 @@
 #include <type_traits>
 
 #include "granboltz/core/hot.hpp"
+#include "granboltz/dsmc/initial_state.hpp"
+#include "granboltz/dsmc/particles_io.hpp"
 #include "granboltz/physics/collision.hpp"
-#include "granboltz/physics/geometry.hpp"
 #include "granboltz/physics/flight/shear.hpp"
+#include "granboltz/physics/geometry.hpp"
 #include "granboltz/physics/heating.hpp"
 #include "granboltz/physics/restitution/collide.hpp"
 #include "granboltz/random/samplers.hpp"
-#include "granboltz/dsmc/initial_state.hpp"
-#include "granboltz/dsmc/particles_io.hpp"
 
 namespace granboltz {
 
@@ -27,7 +27,6 @@ struct LinearFlightKicks {
   static constexpr bool kKicks = true;
   static constexpr bool kLazyScale = false;
 };
-
 
 // The lambda cases with a loop of their own: Maxwell molecules, hard spheres, lambda = 1/2, other.
 constexpr int kMaxwell = 0, kHardSpheres = 1, kHalf = 2, kGeneral = 3;
@@ -44,10 +43,14 @@ constexpr double kRefold = 0x1p8;
 // s^-lambda from s^2, the same arithmetic whether lc is a constant or not.
 inline double inverse_power(int lc, double lambda, double s2) {
   switch (lc) {
-    case kMaxwell: return 1.0;
-    case kHardSpheres: return 1.0 / std::sqrt(s2);
-    case kHalf: return 1.0 / std::sqrt(std::sqrt(s2));
-    default: return std::pow(s2, -0.5 * lambda);
+    case kMaxwell:
+      return 1.0;
+    case kHardSpheres:
+      return 1.0 / std::sqrt(s2);
+    case kHalf:
+      return 1.0 / std::sqrt(std::sqrt(s2));
+    default:
+      return std::pow(s2, -0.5 * lambda);
   }
 }
 }  // namespace
@@ -128,7 +131,8 @@ void DsmcEnsemble::set_flight_frame() {
   // there: |v_i - v_j| <= |v_i| + |v_j| holds whatever the centre, and a drift never carries a
   // speed about 0 beyond its growth factor. Shear flow is seen from the frame of the flow: the
   // velocities are centred (zero momentum, so that the mean stays 0 under the drift).
-  if (flight_.shear != 0.0) for (auto& q : p_) q.v = q.v - v0_;
+  if (flight_.shear != 0.0)
+    for (auto& q : p_) q.v = q.v - v0_;
   set_shear_windows();
   v0_ = Vec3{};
 }
@@ -148,7 +152,8 @@ void DsmcEnsemble::fly_all_to(double s) {
   Engine sweep = sweep_;
   const bool plane = c_.dimension == 2;
   for (auto& q : p_) {
-    q.v = plane ? flight_.propagate<2>(q.v, s - q.t, sweep) : flight_.propagate<3>(q.v, s - q.t, sweep);
+    q.v = plane ? flight_.propagate<2>(q.v, s - q.t, sweep)
+                : flight_.propagate<3>(q.v, s - q.t, sweep);
     q.t = s;
   }
   sweep_ = sweep;
@@ -168,8 +173,7 @@ void DsmcEnsemble::start_window() {
 void DsmcEnsemble::set_majorant(double u_max) {
   u_max_ = u_max;
   u_max2_ = u_max * u_max;
-  if (!pairwise_)
-    inv_rate_ = 1.0 / c_.kernel.majorant_rate(static_cast<double>(p_.size()), u_max_);
+  if (!pairwise_) inv_rate_ = 1.0 / c_.kernel.majorant_rate(static_cast<double>(p_.size()), u_max_);
 }
 
 GRANBOLTZ_HOT void DsmcEnsemble::adapt_majorant(const Particle& a) {
@@ -194,14 +198,16 @@ void DsmcEnsemble::adapt_majorant_all() {
 
 void DsmcEnsemble::set_scale() {
   gauss_.s2 = gauss_.target / gauss_.energy;
-  clock_ = pairwise_ ? inverse_power(lambda_case(c_.kernel.lambda), c_.kernel.lambda, gauss_.s2)
-                     : 1.0;
+  clock_ =
+      pairwise_ ? inverse_power(lambda_case(c_.kernel.lambda), c_.kernel.lambda, gauss_.s2) : 1.0;
 }
 
 void DsmcEnsemble::fold_scale() {
   const auto folded = GaussianThermostat::fold(
       std::span<Particle>(p_.data(), p_.size()), {}, v0_,
-      [&](double n) { return GaussianThermostat::target_of(c_.dimension, n, c_.initial_temperature); },
+      [&](double n) {
+        return GaussianThermostat::target_of(c_.dimension, n, c_.initial_temperature);
+      },
       [&](auto fn) {
         for (std::size_t i = 0; i < p_.size(); ++i) fn(i, 1.0, 0.0);
       });
@@ -242,9 +248,12 @@ GRANBOLTZ_HOT bool DsmcEnsemble::accept(double u2, Engine& events) {
 template <int kLambda>
 GRANBOLTZ_HOT double DsmcEnsemble::weight(const Vec3& v) const {
   const double r2 = norm2(v - v0_);
-  if constexpr (kLambda == kHardSpheres) return std::sqrt(r2);
-  else if constexpr (kLambda == kHalf) return std::sqrt(std::sqrt(r2));
-  else return std::pow(r2, 0.5 * c_.kernel.lambda);
+  if constexpr (kLambda == kHardSpheres)
+    return std::sqrt(r2);
+  else if constexpr (kLambda == kHalf)
+    return std::sqrt(std::sqrt(r2));
+  else
+    return std::pow(r2, 0.5 * c_.kernel.lambda);
 }
 
 template <int kLambda>
@@ -252,7 +261,8 @@ GRANBOLTZ_HOT void DsmcEnsemble::reweigh(std::uint32_t i) {
   const double w = weight<kLambda>(p_[i].v);
   w_sum_ += w - w_[i];
   w_[i] = w;
-  if (w > w_max_) [[unlikely]] set_w_max(w);
+  if (w > w_max_) [[unlikely]]
+    set_w_max(w);
 }
 
 void DsmcEnsemble::set_w_max(double w_max) {
@@ -267,8 +277,10 @@ GRANBOLTZ_HOT void DsmcEnsemble::reweigh_pair(std::uint32_t i, std::uint32_t j) 
   // w_max only grows between sweeps, and the acceptance of a candidate is w_i / w_max: an exact
   // sweep every 2n pair updates (O(1) per event) keeps it near the current maximum, and the sum
   // exact.
-  if (--refresh_countdown_ == 0) reweigh_all<kLambda>();
-  else inv_rate_ = 1.0 / (pairwise_rate_factor_ * w_sum_);
+  if (--refresh_countdown_ == 0)
+    reweigh_all<kLambda>();
+  else
+    inv_rate_ = 1.0 / (pairwise_rate_factor_ * w_sum_);
 }
 
 template <int kLambda>
@@ -289,9 +301,12 @@ void DsmcEnsemble::reweigh_all() {
 
 void DsmcEnsemble::reweigh_all() {
   switch (lambda_case(c_.kernel.lambda)) {
-    case kHardSpheres: return reweigh_all<kHardSpheres>();
-    case kHalf: return reweigh_all<kHalf>();
-    default: return reweigh_all<kGeneral>();
+    case kHardSpheres:
+      return reweigh_all<kHardSpheres>();
+    case kHalf:
+      return reweigh_all<kHalf>();
+    default:
+      return reweigh_all<kGeneral>();
   }
 }
 
@@ -401,10 +416,12 @@ bool DsmcEnsemble::run_nosplit(double s, const std::atomic<bool>* pause) {
       }
     }
     bool real = true;
-    if constexpr (kPairwise) real = accept_pairwise<kLambda>(norm2(a.v - b.v), bound, pair.bits);
+    if constexpr (kPairwise)
+      real = accept_pairwise<kLambda>(norm2(a.v - b.v), bound, pair.bits);
     else if constexpr (kGaussian && kLambda != kMaxwell)  // the global majorant is in true units
       real = accept<kLambda>(gauss_.s2 * norm2(a.v - b.v), ev);
-    else if constexpr (kLambda != kMaxwell) real = accept<kLambda>(norm2(a.v - b.v), ev);  // 2.8
+    else if constexpr (kLambda != kMaxwell)
+      real = accept<kLambda>(norm2(a.v - b.v), ev);  // 2.8
     if (real) {
       double before = 0.0;
       if constexpr (kGaussian) before = norm2(a.v - v0_) + norm2(b.v - v0_);
@@ -479,8 +496,10 @@ void DsmcEnsemble::collide_during(double h) {
   double t = 0.0;
   std::uint64_t events = 0;
   for (;;) {
-    if constexpr (kGaussian && kPairwise) t += exponential(ev) * inv_rate_ * clock_;
-    else t += exponential(ev) * inv_rate_;
+    if constexpr (kGaussian && kPairwise)
+      t += exponential(ev) * inv_rate_ * clock_;
+    else
+      t += exponential(ev) * inv_rate_;
     if (t >= h) break;
     const Pair pair = select_pair<kLambda, kPairwise>(pairs);
     Particle& a = p_[pair.i];
@@ -534,8 +553,10 @@ void DsmcEnsemble::kick_all_by(double h) {
       q.v = plane ? flight_.propagate<2>(q.v, h, sweep) : flight_.propagate<3>(q.v, h, sweep);
     sweep_ = sweep;
     counts_.kicks += p_.size();
-    if (gaussian_) rescale();
-    else adapt_majorant_all();
+    if (gaussian_)
+      rescale();
+    else
+      adapt_majorant_all();
     return;
   }
   if (!heated_) return;
@@ -588,16 +609,23 @@ template <class G, class F>
 void dispatch_kernel(int lc, bool pairwise, F&& f) {
   if (pairwise) {
     switch (lc) {
-      case kHardSpheres: return f.template operator()<kHardSpheres, true, G>();
-      case kHalf: return f.template operator()<kHalf, true, G>();
-      default: return f.template operator()<kGeneral, true, G>();
+      case kHardSpheres:
+        return f.template operator()<kHardSpheres, true, G>();
+      case kHalf:
+        return f.template operator()<kHalf, true, G>();
+      default:
+        return f.template operator()<kGeneral, true, G>();
     }
   }
   switch (lc) {
-    case kMaxwell: return f.template operator()<kMaxwell, false, G>();
-    case kHardSpheres: return f.template operator()<kHardSpheres, false, G>();
-    case kHalf: return f.template operator()<kHalf, false, G>();
-    default: return f.template operator()<kGeneral, false, G>();
+    case kMaxwell:
+      return f.template operator()<kMaxwell, false, G>();
+    case kHardSpheres:
+      return f.template operator()<kHardSpheres, false, G>();
+    case kHalf:
+      return f.template operator()<kHalf, false, G>();
+    default:
+      return f.template operator()<kGeneral, false, G>();
   }
 }
 
@@ -615,8 +643,9 @@ bool DsmcEnsemble::advance_to(double s, const std::atomic<bool>* pause) {
   if (c_.scheme == Scheme::kNoSplit) {
     bool reached = true;
     // White noise with beta = 0 is free cooling: the loop without kicks.
-    const Thermostat loop = heated_ ? Thermostat::kWhiteNoise : gaussian_ ? Thermostat::kGaussian
-                                                                          : Thermostat::kNone;
+    const Thermostat loop = heated_     ? Thermostat::kWhiteNoise
+                            : gaussian_ ? Thermostat::kGaussian
+                                        : Thermostat::kNone;
     if (linear_) {
       // Shear: windows of the majorant on the grid k * window_, each started with every
       // particle at its start (next_window_ is part of the state, so a pause or a checkpoint
@@ -639,9 +668,8 @@ bool DsmcEnsemble::advance_to(double s, const std::atomic<bool>* pause) {
       }
     } else {
       dispatch(c_, lc, pairwise_, [&]<int L, bool P, class G>() {
-        ThermostatList::with(loop, [&](auto heat) {
-          reached = run_nosplit<decltype(heat), L, P, G>(s, pause);
-        });
+        ThermostatList::with(
+            loop, [&](auto heat) { reached = run_nosplit<decltype(heat), L, P, G>(s, pause); });
       });
       if (!reached) return false;
       kick_all_to(s);  // step 3.1 / Remark 2
@@ -650,8 +678,10 @@ bool DsmcEnsemble::advance_to(double s, const std::atomic<bool>* pause) {
   } else {
     auto collide_for = [&](double h) {
       dispatch(c_, lc, pairwise_, [&]<int L, bool P, class G>() {
-        if (gaussian_) collide_during<true, L, P, G>(h);
-        else collide_during<false, L, P, G>(h);
+        if (gaussian_)
+          collide_during<true, L, P, G>(h);
+        else
+          collide_during<false, L, P, G>(h);
       });
     };
     const double dt = c_.time_step();
@@ -660,7 +690,7 @@ bool DsmcEnsemble::advance_to(double s, const std::atomic<bool>* pause) {
     const auto k_end = static_cast<std::uint64_t>(std::llround(s / dt));
     for (; k < k_end; ++k) {
       if (pause && pause->load(std::memory_order_relaxed)) return false;  // between steps
-      if (c_.scheme == Scheme::kEuler) {  // RW05 Algorithm 1
+      if (c_.scheme == Scheme::kEuler) {                                  // RW05 Algorithm 1
         collide_for(dt);
         kick_all_by(dt);
       } else {  // RW05 Algorithm 2
@@ -693,7 +723,8 @@ void DsmcEnsemble::visit_state(StateArchive& a) {
          real("V_z", v0_.z, linear_ ? centre : zero_if(plane, "in dimension 2")),
          real("u_max", u_max_, at_least(0.0)),
          real("w_sum", w_sum_, pairwise_ ? positive() : finite()), real("w_max", w_max_));
-  a.each("particles", n, 3, [&](std::size_t i) { return p_[i].t; }, within(0.0, t_, "t"));
+  a.each(
+      "particles", n, 3, [&](std::size_t i) { return p_[i].t; }, within(0.0, t_, "t"));
   a.stream("events_stream", events_);
   a.stream("pairs_stream", pairs_);
   a.stream("sweep_stream", sweep_);
@@ -706,11 +737,13 @@ void DsmcEnsemble::visit_state(StateArchive& a) {
       });
   a.pack("counters", word("head", head_, below(kLookahead, "the look-ahead")),
          word("collisions", counts_.collisions), word("fictitious", counts_.fictitious),
-         word("kicks", counts_.kicks), word("sweep countdown", refresh_countdown_, up_to(2 * n, "2n")));
+         word("kicks", counts_.kicks),
+         word("sweep countdown", refresh_countdown_, up_to(2 * n, "2n")));
   if (pairwise_) {
     if (a.reading()) w_.assign(n, 0.0);
     a.table<double>(
-        "weights", n, 0, {within(0.0, w_max_, "w_max")}, [&](std::size_t i, std::size_t) { return w_[i]; },
+        "weights", n, 0, {within(0.0, w_max_, "w_max")},
+        [&](std::size_t i, std::size_t) { return w_[i]; },
         [&](std::size_t i, std::size_t, double x) { w_[i] = x; });
     visit_index_stream(a, "candidates", candidates_, static_cast<std::uint32_t>(n));
     visit_index_stream(a, "partners", partners_, static_cast<std::uint32_t>(n - 1));
@@ -720,10 +753,13 @@ void DsmcEnsemble::visit_state(StateArchive& a) {
            real("target", gauss_.target, positive()));
   if (window_ > 0.0) {
     a.pack("flight_window", word("next window", next_window_, counts_between(1, UINT64_MAX)));
-    a.require("flight_window", [&] {
-      return static_cast<double>(next_window_) * window_ > t_ &&
-             static_cast<double>(next_window_ - 1) * window_ <= t_;
-    }, "a shear window that does not hold the time");
+    a.require(
+        "flight_window",
+        [&] {
+          return static_cast<double>(next_window_) * window_ > t_ &&
+                 static_cast<double>(next_window_ - 1) * window_ <= t_;
+        },
+        "a shear window that does not hold the time");
   }
 }
 

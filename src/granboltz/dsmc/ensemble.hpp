@@ -7,14 +7,14 @@
 #include <cstdint>
 #include <vector>
 
-#include "granboltz/random/index_stream.hpp"
 #include "granboltz/dsmc/config.hpp"
+#include "granboltz/dsmc/particles.hpp"
 #include "granboltz/exec/ensemble_pool.hpp"
 #include "granboltz/h5/hdf5_io.hpp"
-#include "granboltz/record/state_archive.hpp"
-#include "granboltz/dsmc/particles.hpp"
 #include "granboltz/physics/thermostat/list.hpp"
+#include "granboltz/random/index_stream.hpp"
 #include "granboltz/random/rng.hpp"
+#include "granboltz/record/state_archive.hpp"
 
 namespace granboltz {
 
@@ -85,17 +85,18 @@ class DsmcEnsemble {
   // V = v0_, s^2 = gauss_.s2 (collisions commute with this map).
   template <int kLambda, bool kPairwise>
   void after_gaussian_collision(double delta);  // delta: the change of sum |w - V|^2
-  void set_scale();               // gauss_.s2 and clock_ from its energy and target
-  void fold_scale();              // v := V + s (w - V), then exactly T = T0 about the mean
-  void rescale();                 // fold_scale() and the majorant in the new units
+  void set_scale();                             // gauss_.s2 and clock_ from its energy and target
+  void fold_scale();  // v := V + s (w - V), then exactly T = T0 about the mean
+  void rescale();     // fold_scale() and the majorant in the new units
   template <int kLambda, bool kPairwise>
   Pair select_pair(Engine& pairs);  // candidate pair of the majorant process
-  void kick_all_by(double h);      // kicking step of length h (splitting schemes)
+  void kick_all_by(double h);       // kicking step of length h (splitting schemes)
   void set_flight_frame();
-  void set_shear_windows();        // shear, nosplit: window_, growth_ and the majorant's factor         // drag or shear: the majorant's centre 0 (and the shear frame)
-  void fly_all_to(double s);       // drag or shear: every particle's flight from its time to s
-  void start_window();             // shear: the majorant for the window that starts now
-  void kick_all_to(double s);      // kick every particle from its own last time to s
+  void set_shear_windows();  // shear, nosplit: window_, growth_ and the majorant's factor // drag
+                             // or shear: the majorant's centre 0 (and the shear frame)
+  void fly_all_to(double s);   // drag or shear: every particle's flight from its time to s
+  void start_window();         // shear: the majorant for the window that starts now
+  void kick_all_to(double s);  // kick every particle from its own last time to s
   template <int kLambda>
   bool accept(double u2, Engine& events);  // global majorant: real (not fictitious) collision?
   template <int kLambda>
@@ -103,7 +104,7 @@ class DsmcEnsemble {
   template <int kLambda>
   double weight(const Vec3& v) const;  // pairwise majorant weight |v - V|^lambda
   template <int kLambda>
-  void reweigh(std::uint32_t i);       // refresh w_i, sum and maximum after v_i changed
+  void reweigh(std::uint32_t i);  // refresh w_i, sum and maximum after v_i changed
   template <int kLambda>
   void reweigh_pair(std::uint32_t i, std::uint32_t j);  // both partners, then the rate
   template <int kLambda>
@@ -124,15 +125,15 @@ class DsmcEnsemble {
   const DsmcConfig& c_;
   Particles p_;
   double t_ = 0.0;
-  Vec3 v0_;               // bulk velocity at t = 0: the centre of the majorant (GRW05 step 1.3)
-  double u_max_ = 0.0;    // U_max
-  double u_max2_ = 0.0;   // U_max^2
-  double inv_rate_ = 0.0; // 1 / pi_hat, pi_hat = 2 pi gamma C (n - 1) U_max^lambda
-  double adapt_factor2_;  // (1 or 2)^2: paper or strict majorant update
-  bool heated_;           // white noise with beta > 0
-  bool gaussian_;         // dsmc.thermostat: gaussian
+  Vec3 v0_;                   // bulk velocity at t = 0: the centre of the majorant (GRW05 step 1.3)
+  double u_max_ = 0.0;        // U_max
+  double u_max2_ = 0.0;       // U_max^2
+  double inv_rate_ = 0.0;     // 1 / pi_hat, pi_hat = 2 pi gamma C (n - 1) U_max^lambda
+  double adapt_factor2_;      // (1 or 2)^2: paper or strict majorant update
+  bool heated_;               // white noise with beta > 0
+  bool gaussian_;             // dsmc.thermostat: gaussian
   GaussianThermostat gauss_;  // gaussian: the lazy scale's sums and s^2
-  double clock_ = 1.0;    // gaussian, pairwise majorant: s^-lambda (the rate is in w units)
+  double clock_ = 1.0;        // gaussian, pairwise majorant: s^-lambda (the rate is in w units)
   Engine events_, pairs_, sweep_;
   std::array<Pair, kLookahead> ring_{};  // global majorant: the pairs ahead
   unsigned head_ = 0;
@@ -144,18 +145,19 @@ class DsmcEnsemble {
   bool pairwise_;
   std::vector<double, HugePageAllocator<double>> w_;
   double w_sum_ = 0.0, w_max_ = 0.0;
-  double candidate_scale_ = 0.0;  // 2^-32 w_max (exact: a power of two)
+  double candidate_scale_ = 0.0;         // 2^-32 w_max (exact: a power of two)
   std::uint64_t refresh_countdown_ = 0;  // weight updates until the next exact sweep
-  double pairwise_rate_factor_ = 0.0;  // pi_hat / W
+  double pairwise_rate_factor_ = 0.0;    // pi_hat / W
   EventCounts counts_;
   ProgressSlot* progress_;
-  // Drag or shear (last, off the hot members' cache lines) (physics/flight/): every kick is the flight's exact propagator, the majorant
-  // is centred on 0 (the flights contract or shear about it), and with shear it allows for the
-  // growth of a speed over one window of the drift (growth_ = its largest factor).
+  // Drag or shear (last, off the hot members' cache lines) (physics/flight/): every kick is the
+  // flight's exact propagator, the majorant is centred on 0 (the flights contract or shear about
+  // it), and with shear it allows for the growth of a speed over one window of the drift (growth_ =
+  // its largest factor).
   LinearFlight flight_;
   bool linear_ = false;
-  double window_ = 0.0;           // shear: the length of a majorant window
-  std::uint64_t next_window_ = 1; // shear, nosplit: the window that ends at next_window_ * window_
+  double window_ = 0.0;            // shear: the length of a majorant window
+  std::uint64_t next_window_ = 1;  // shear, nosplit: the window that ends at next_window_ * window_
   double growth_ = 1.0;
 };
 

@@ -74,8 +74,10 @@ void GasEnsemble::init_tables() {
     inertia_.push_back(sp.moment_of_inertia());
   }
   const double lambda = c_.kernel.lambda;
-  lambda_case_ = lambda == 0.0 ? kMaxwell : lambda == 1.0 ? kHardSpheres : lambda == 0.5 ? kHalf
-                                                                                          : kGeneral;
+  lambda_case_ = lambda == 0.0   ? kMaxwell
+                 : lambda == 1.0 ? kHardSpheres
+                 : lambda == 0.5 ? kHalf
+                                 : kGeneral;
   for (std::uint32_t a = 0; a < K; ++a)
     for (std::uint32_t b = a; b < K; ++b) {
       const auto Na = static_cast<double>(c_.species[a].count);
@@ -96,7 +98,8 @@ void GasEnsemble::init_tables() {
   for (std::size_t a = 0; a < K; ++a) {
     flights_.push_back(c_.flight_of(a));
     // The config refuses dsmc.shear here; fly() has no sheared case.
-    if (flights_.back().shear != 0.0) throw std::logic_error("GasEnsemble: shear flow not supported");
+    if (flights_.back().shear != 0.0)
+      throw std::logic_error("GasEnsemble: shear flow not supported");
   }
   r_max_.assign(K, 0.0);
   cum_.assign(classes_.size(), 0.0);
@@ -154,8 +157,9 @@ GasEnsemble::GasEnsemble(const DsmcConfig& config, std::uint64_t seed, std::uint
     // The thermostat keeps the total energy, translational and rotational, at its expected
     // initial value: n (d T0 + d_rot T_rot(0)).
     const double n = static_cast<double>(p_.size());
-    target_ = n * (c_.dimension * c_.initial_temperature +
-                   (rough_ ? rotational_dof(c_.dimension) * c_.initial_rotational_temperature : 0.0));
+    target_ =
+        n * (c_.dimension * c_.initial_temperature +
+             (rough_ ? rotational_dof(c_.dimension) * c_.initial_rotational_temperature : 0.0));
     fold();
   }
   adapt_all();
@@ -194,10 +198,16 @@ void GasEnsemble::set_rates() {
     const double U = r_max_[pc.a] + r_max_[pc.b];
     double power = 1.0;
     switch (lambda_case_) {
-      case kMaxwell: break;
-      case kHardSpheres: power = U; break;
-      case kHalf: power = std::sqrt(U); break;
-      default: power = std::pow(U, c_.kernel.lambda);
+      case kMaxwell:
+        break;
+      case kHardSpheres:
+        power = U;
+        break;
+      case kHalf:
+        power = std::sqrt(U);
+        break;
+      default:
+        power = std::pow(U, c_.kernel.lambda);
     }
     sum += pc.rate_unit * power;
     cum_[k] = sum;
@@ -235,7 +245,8 @@ void GasEnsemble::fold() {
       [&](auto fn) {
         for (std::size_t a = 0; a < c_.species.size(); ++a) {
           const auto& sp = c_.species[a];
-          for (std::uint64_t i = sp.offset; i < sp.offset + sp.count; ++i) fn(i, mass_[a], inertia_[a]);
+          for (std::uint64_t i = sp.offset; i < sp.offset + sp.count; ++i)
+            fn(i, mass_[a], inertia_[a]);
         }
       });
   energy_ = folded.energy;
@@ -295,7 +306,7 @@ bool GasEnsemble::events(double s_end, const std::atomic<bool>* pause, bool kick
     }
     Particle& A = p_[i];
     Particle& B = p_[j];
-    if (kicks) {  // the free flight of the translational velocities up to the event time
+    if (kicks) {             // the free flight of the translational velocities up to the event time
       if constexpr (kFly) {  // per species: white noise, drag
         A.v = fly(flights_[pc.a], G::kDim, A.v, t_ - A.t, ev);
         B.v = fly(flights_[pc.b], G::kDim, B.v, t_ - B.t, ev);
@@ -313,9 +324,12 @@ bool GasEnsemble::events(double s_end, const std::atomic<bool>* pause, bool kick
       const double U = r_max_[pc.a] + r_max_[pc.b];
       const double u2 = norm2(A.v - B.v);
       const double r = uniform01(ev);
-      if (lc == kHardSpheres) real = r * r * (U * U) < u2;
-      else if (lc == kHalf) real = (r * r) * (r * r) * (U * U) < u2;
-      else real = r < std::pow(u2 / (U * U), 0.5 * lambda);
+      if (lc == kHardSpheres)
+        real = r * r * (U * U) < u2;
+      else if (lc == kHalf)
+        real = (r * r) * (r * r) * (U * U) < u2;
+      else
+        real = r < std::pow(u2 / (U * U), 0.5 * lambda);
     }
     if (!real) {
       ++counts.fictitious;
@@ -336,8 +350,10 @@ bool GasEnsemble::events(double s_end, const std::atomic<bool>* pause, bool kick
         }
         double before = 0.0;
         if (gaussian_) before = energy_of(pc.a, i) + energy_of(pc.b, j);
-        if (rough_) collide_rough(A.v, w_[i], B.v, w_[j], n, eps, pc.terms);
-        else collide_smooth(A.v, B.v, n, eps, pc.terms);
+        if (rough_)
+          collide_rough(A.v, w_[i], B.v, w_[j], n, eps, pc.terms);
+        else
+          collide_smooth(A.v, B.v, n, eps, pc.terms);
         if (gaussian_) {
           energy_ += energy_of(pc.a, i) + energy_of(pc.b, j) - before;
           s2_ = target_ / energy_;
@@ -466,8 +482,12 @@ void GasEnsemble::visit_state(StateArchive& a) {
     const Real in_plane = zero_if(plane, "in dimension 2");  // a spin on the z axis
     a.table<double>(
         "spins", n, 3, {in_plane, in_plane, finite()},
-        [&](std::size_t i, std::size_t k) { return k == 0 ? w_[i].x : k == 1 ? w_[i].y : w_[i].z; },
-        [&](std::size_t i, std::size_t k, double x) { (k == 0 ? w_[i].x : k == 1 ? w_[i].y : w_[i].z) = x; });
+        [&](std::size_t i, std::size_t k) { return k == 0   ? w_[i].x
+                                                   : k == 1 ? w_[i].y
+                                                            : w_[i].z; },
+        [&](std::size_t i, std::size_t k, double x) {
+          (k == 0 ? w_[i].x : k == 1 ? w_[i].y : w_[i].z) = x;
+        });
   }
   // Drag and shear centre the majorant on 0 (the flights contract or shear about it).
   const Real centre = zero_if(c_.linear_flight(), "under drag or shear");
@@ -476,7 +496,8 @@ void GasEnsemble::visit_state(StateArchive& a) {
          real("V_y", v0_.y, centre),
          real("V_z", v0_.z, c_.linear_flight() ? centre : zero_if(plane, "in dimension 2")),
          real("energy", energy_, energy), real("target", target_, energy));
-  a.each("particles", n, 3, [&](std::size_t i) { return p_[i].t; }, within(0.0, t_, "t"));
+  a.each(
+      "particles", n, 3, [&](std::size_t i) { return p_[i].t; }, within(0.0, t_, "t"));
   if (a.reading()) r_max_.resize(K), species_collisions_.resize(K);
   a.table<double>(
       "bounds", K, 0, {at_least(0.0)}, [&](std::size_t i, std::size_t) { return r_max_[i]; },
@@ -491,12 +512,16 @@ void GasEnsemble::visit_state(StateArchive& a) {
       [&](std::size_t i, std::size_t) { return species_collisions_[i]; },
       [&](std::size_t i, std::size_t, std::uint64_t x) { species_collisions_[i] = x; });
   // A bound below a particle's speed would make a probability exceed 1.
-  a.require("particles", [&] {
-    for (std::size_t s = 0; s < K; ++s)
-      for (std::uint64_t i = c_.species[s].offset; i < c_.species[s].offset + c_.species[s].count; ++i)
-        if (norm(p_[i].v - v0_) > r_max_[s] * (1.0 + 1e-12)) return false;
-    return true;
-  }, "a velocity beyond its species' bound (bounds)");
+  a.require(
+      "particles",
+      [&] {
+        for (std::size_t s = 0; s < K; ++s)
+          for (std::uint64_t i = c_.species[s].offset;
+               i < c_.species[s].offset + c_.species[s].count; ++i)
+            if (norm(p_[i].v - v0_) > r_max_[s] * (1.0 + 1e-12)) return false;
+        return true;
+      },
+      "a velocity beyond its species' bound (bounds)");
 }
 
 GasEnsemble::GasEnsemble(const DsmcConfig& config, const H5Reader& in, const std::string& g,

@@ -13,10 +13,10 @@
 //
 // Free flight per species (dsmc.beta as a mapping, dsmc.drag): the particles of species a follow
 // the exact law of flight_of(a) (physics/flight/; fly() in gas.cpp) on their translational
-// velocities (spins are untouched), lazily from their own last time as the white-noise kicks. Drag pulls velocities
-// towards 0, so the majorant is then centred at V0 = 0: without noise a speed about 0 only
-// shrinks and the bounds stay exact; with noise the bounds follow the kicked partners (the
-// truncated-kernel rule of white noise). A scalar beta without drag (or a mapping of equal
+// velocities (spins are untouched), lazily from their own last time as the white-noise kicks. Drag
+// pulls velocities towards 0, so the majorant is then centred at V0 = 0: without noise a speed
+// about 0 only shrinks and the bounds stay exact; with noise the bounds follow the kicked partners
+// (the truncated-kernel rule of white noise). A scalar beta without drag (or a mapping of equal
 // values) keeps the white-noise kicks, draw for draw.
 #include <atomic>
 #include <cstdint>
@@ -28,9 +28,9 @@
 #include "granboltz/dsmc/particles.hpp"
 #include "granboltz/exec/ensemble_pool.hpp"
 #include "granboltz/h5/hdf5_io.hpp"
-#include "granboltz/record/state_archive.hpp"
 #include "granboltz/physics/pair_collision.hpp"
 #include "granboltz/random/rng.hpp"
+#include "granboltz/record/state_archive.hpp"
 
 namespace granboltz {
 
@@ -73,11 +73,11 @@ class GasEnsemble {
     PairTerms terms;
   };
   void init_tables();
-  void set_rates();           // class rates and their sum from R_a
+  void set_rates();                            // class rates and their sum from R_a
   void adapt(std::uint32_t a, const Vec3& v);  // R_a >= |v - V0|
   void adapt_all();
   double energy_of(std::uint32_t a, std::size_t i) const;  // m |w - V0|^2 + I |W|^2
-  void fold();                // Gaussian: the scale into the stored values, exact energy
+  void fold();  // Gaussian: the scale into the stored values, exact energy
   template <class G, bool kFly>
   bool events(double s_end, const std::atomic<bool>* pause, bool kicks);
   void kick_all_to(double s);
@@ -89,16 +89,16 @@ class GasEnsemble {
 
   const DsmcConfig& c_;
   Particles p_;
-  std::vector<Vec3> w_;        // spins (rough)
+  std::vector<Vec3> w_;  // spins (rough)
   double t_ = 0.0;
-  Vec3 v0_;                    // centre-of-mass velocity at t = 0
+  Vec3 v0_;  // centre-of-mass velocity at t = 0
   std::vector<PairClass> classes_;
   std::vector<double> mass_, inertia_, radius_;  // per species; inertia_ = I_a
-  std::vector<double> r_max_;  // R_a in stored units
-  std::vector<double> cum_;    // cumulative class rates (stored units)
-  double rate_ = 0.0;          // their sum
+  std::vector<double> r_max_;                    // R_a in stored units
+  std::vector<double> cum_;                      // cumulative class rates (stored units)
+  double rate_ = 0.0;                            // their sum
   bool heated_, gaussian_, rough_;
-  bool flying_;                       // per-species beta or drag: the flights below
+  bool flying_;                        // per-species beta or drag: the flights below
   std::vector<LinearFlight> flights_;  // flight_of(a) per species
   int lambda_case_ = 0;
   double s2_ = 1.0, energy_ = 0.0, target_ = 0.0;  // Gaussian: lazy scale, sum energy, its target

@@ -15,7 +15,7 @@ namespace granboltz {
 /// The lower Cholesky factor L of a symmetric d x d temperature tensor T (T = L L^T), row-major
 /// 3 x 3 with zeros beyond d; none if T is not positive definite (a pivot <= 0 or not finite).
 inline std::optional<std::array<double, 9>> temperature_factor(const std::vector<double>& T,
-                                                                 int d) {
+                                                               int d) {
   std::array<double, 9> L{};
   for (int i = 0; i < d; ++i)
     for (int j = 0; j <= i; ++j) {
@@ -38,8 +38,7 @@ inline Vec3 anisotropic_velocity(const std::array<double, 9>& L, int d, double s
   const double a = normal(eng);
   const double b = normal(eng);
   const double c = d == 3 ? normal(eng) : 0.0;
-  return {scale * L[0] * a,
-          scale * (L[3] * a + L[4] * b),
+  return {scale * L[0] * a, scale * (L[3] * a + L[4] * b),
           scale * (L[6] * a + L[7] * b + L[8] * c)};
 }
 
@@ -52,8 +51,8 @@ inline Vec3 anisotropic_velocity(const std::array<double, 9>& L, int d, double s
 /// heat_flux_gain = (d + 2) 2^{-d/2} / 8 (Gaussian integrals against the weight e^{-|x|^2/2}).
 /// The density stays positive iff |g| H < 1, H = max_r |r (r^2 - K) e^{-r^2/2}| (heat_flux_peak).
 struct SkewedState {
-  Vec3 g;          ///< the reduced flux vector (0 beyond d)
-  double envelope; ///< 1 + |g| H >= 1 + phi: the rejection envelope
+  Vec3 g;           ///< the reduced flux vector (0 beyond d)
+  double envelope;  ///< 1 + |g| H >= 1 + phi: the rejection envelope
 
   /// phi(x) of the state.
   double phi(const Vec3& x, int d) const {

@@ -61,7 +61,8 @@ double crit(double temperature, const double* pressure, const double* heat_flux,
     const double frob = d0 * d0 + d1 * d1 + 2.0 * pressure[1] * pressure[1];
     const double q2 = heat_flux[0] * heat_flux[0] + heat_flux[1] * heat_flux[1];
     return std::sqrt(0.5 * frob + 2.0 / (4.0 * T) * q2 +
-                     fourth_moment * fourth_moment / (64.0 * T * T)) / T;
+                     fourth_moment * fourth_moment / (64.0 * T * T)) /
+           T;
   }
   const double p = (pressure[0] + pressure[4] + pressure[8]) / 3.0;
   double frob = 0.0;
@@ -70,16 +71,16 @@ double crit(double temperature, const double* pressure, const double* heat_flux,
       const double d = pressure[3 * a + b] - (a == b ? p : 0.0);
       frob += d * d;
     }
-  const double q2 = heat_flux[0] * heat_flux[0] + heat_flux[1] * heat_flux[1] +
-                    heat_flux[2] * heat_flux[2];
+  const double q2 =
+      heat_flux[0] * heat_flux[0] + heat_flux[1] * heat_flux[1] + heat_flux[2] * heat_flux[2];
   return std::sqrt(0.5 * frob + 2.0 / (5.0 * T) * q2 +
-                   fourth_moment * fourth_moment / (120.0 * T * T)) / T;
+                   fourth_moment * fourth_moment / (120.0 * T * T)) /
+         T;
 }
 
 std::string moment_name(int p) { return "moment_" + std::to_string(2 * p); }
 
-Observation measure(std::span<const Particle> particles, std::span<double> moments,
-                    int dimension) {
+Observation measure(std::span<const Particle> particles, std::span<double> moments, int dimension) {
   const double inv_n = 1.0 / static_cast<double>(particles.size());
   // The mean, two sums per SSE2 instruction (see central_sums).
   V2 mxy = {0, 0};

@@ -35,7 +35,9 @@ inline constexpr ObservableInfo kObservables[] = {
      "behind the published error tables"},
 };
 
-inline int observable_size(const ObservableInfo& o) { return o.rank == 0 ? 1 : o.rank == 1 ? 3 : 9; }
+inline int observable_size(const ObservableInfo& o) {
+  return o.rank == 0 ? 1 : o.rank == 1 ? 3 : 9;
+}
 
 /// A speed moment may not exceed this, so that its square and the sum of squares over up to
 /// 10^8 ensembles stay finite doubles (the exact sums hold any finite double).
@@ -44,9 +46,10 @@ inline constexpr double kMomentLimit = 1e150;
 std::string moment_name(int p);
 
 /// All moments of the empirical measure (1/n) sum delta_{v_j}, computed in two passes about the
-/// bulk velocity, for velocities in R^d (d = 2: v_z = 0, and the z rows of P, q are 0). If `moments` is not empty (at most kMaxMoments entries), moments[p - 1] receives
-/// the speed moment <|v - V|^{2p}> = (1/n) sum_j |v_j - V|^{2p}, p = 1..moments.size(), summed in
-/// the second pass; the other observables do not depend on it.
+/// bulk velocity, for velocities in R^d (d = 2: v_z = 0, and the z rows of P, q are 0). If
+/// `moments` is not empty (at most kMaxMoments entries), moments[p - 1] receives the speed moment
+/// <|v - V|^{2p}> = (1/n) sum_j |v_j - V|^{2p}, p = 1..moments.size(), summed in the second pass;
+/// the other observables do not depend on it.
 Observation measure(std::span<const Particle> particles, std::span<double> moments = {},
                     int dimension = 3);
 

@@ -30,7 +30,8 @@ void* map(std::size_t length) {
   const auto a = reinterpret_cast<std::uintptr_t>(raw);
   const std::uintptr_t start = (a + kHugePage - 1) / kHugePage * kHugePage;
   if (start > a) ::munmap(raw, start - a);
-  if (a + over > start + length) ::munmap(reinterpret_cast<void*>(start + length), a + over - start - length);
+  if (a + over > start + length)
+    ::munmap(reinterpret_cast<void*>(start + length), a + over - start - length);
   void* p = reinterpret_cast<void*>(start);
   ::madvise(p, length, MADV_HUGEPAGE);  // advice only: harmless where unsupported
   return p;

@@ -48,11 +48,15 @@ struct HugePageAllocator {
   }
   void deallocate(T* p, std::size_t n) noexcept {
     const std::size_t bytes = n * sizeof(T);
-    if (bytes < detail::kLargeBytes) ::operator delete(p, std::align_val_t(alignof(T)));
-    else detail::release_large(p, bytes);
+    if (bytes < detail::kLargeBytes)
+      ::operator delete(p, std::align_val_t(alignof(T)));
+    else
+      detail::release_large(p, bytes);
   }
   template <class U>
-  bool operator==(const HugePageAllocator<U>&) const { return true; }
+  bool operator==(const HugePageAllocator<U>&) const {
+    return true;
+  }
 };
 
 using Particles = std::vector<Particle, HugePageAllocator<Particle>>;

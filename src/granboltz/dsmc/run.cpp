@@ -58,7 +58,8 @@ Record dsmc_layout(const DsmcRunConfig& config) {
   declare(LayoutPhase::kComponent);
   declare(LayoutPhase::kGeneralGas);
   if (d.species_written)
-    for (const auto& sp : d.species) r.declare_column("/events/species/" + sp.name + "/collisions", false);
+    for (const auto& sp : d.species)
+      r.declare_column("/events/species/" + sp.name + "/collisions", false);
   declare(LayoutPhase::kRatios);
   declare(LayoutPhase::kAppended);
   return r;
@@ -168,7 +169,8 @@ void run_dsmc(const DsmcRunConfig& config, const DriverOptions& options, Record&
           while (!ens.advance_to(s, safe.pause_flag())) safe.park(e, &w);
         const ParticleView view = ens.view();
         for (std::size_t k = 0; k < observers.size(); ++k)
-          if (observers[k]->next_sample(w.observed[k]) == s) observers[k]->sample(view, s, w.observed[k]);
+          if (observers[k]->next_sample(w.observed[k]) == s)
+            observers[k]->sample(view, s, w.observed[k]);
       }
     };
     for (; w.next < rows; ++w.next) {
@@ -179,11 +181,13 @@ void run_dsmc(const DsmcRunConfig& config, const DriverOptions& options, Record&
       // The engine measures the row in one pass, into the observers' targets; then each observer
       // sees the particles and the whole gas's scalars.
       RowTargets row;
-      for (std::size_t k = 0; k < observers.size(); ++k) observers[k]->target(w.observed[k], m, row);
+      for (std::size_t k = 0; k < observers.size(); ++k)
+        observers[k]->target(w.observed[k], m, row);
       const Observation whole = ens.observe(d, row);
       const ParticleView view = ens.view();
       const ObservedRow observed{view, whole, m};
-      for (std::size_t k = 0; k < observers.size(); ++k) observers[k]->observe(observed, w.observed[k]);
+      for (std::size_t k = 0; k < observers.size(); ++k)
+        observers[k]->observe(observed, w.observed[k]);
       // An engine's own time averages (the weighted engine's cooling rate) run over the rows the
       // steady observables use: from the last row outside that window on.
       if (!(times[m] > run_rows.steady_after)) ens.mark_window();

@@ -6,15 +6,14 @@
 #include <limits>
 #include <stdexcept>
 
-
 #include "granboltz/config/reader.hpp"
+#include "granboltz/dsmc/initial_state.hpp"
+#include "granboltz/dsmc/particles_io.hpp"
 #include "granboltz/physics/collision.hpp"
 #include "granboltz/physics/geometry.hpp"
 #include "granboltz/physics/heating.hpp"
 #include "granboltz/physics/restitution/collide.hpp"
 #include "granboltz/random/samplers.hpp"
-#include "granboltz/dsmc/initial_state.hpp"
-#include "granboltz/dsmc/particles_io.hpp"
 
 namespace granboltz {
 
@@ -29,7 +28,8 @@ constexpr double kReduceTo = 0.8;
 // weight, and lineages of light particles used to collide on until their weights underflowed
 // (1e-308) and the observables turned into NaN. 1e-200 of 1/n is far below any weight a tail
 // needs (the papers' tails reach f/f(0) = 1e-40, their lightest particles about 1e-60 of 1/n) and
-// below the round-off of every sum over the particles, so what the floor drops or moves is not seen.
+// below the round-off of every sum over the particles, so what the floor drops or moves is not
+// seen.
 constexpr double kWeightFloor = 1e-200;
 // Gaussian thermostat: the lazy scale is folded into the velocities once s^2 passes this (as in
 // the constant-weight engine), besides at every sweep, reduction and observation.
@@ -353,7 +353,8 @@ void thin_particles(Particles& p, std::vector<double>& g, std::size_t target, En
       auto bin = [](double x) {
         return static_cast<std::uint64_t>(std::floor(std::clamp(x, -0x1p20, 0x1p20 - 1)) + 0x1p20);
       };
-      keyed.push_back({(bin(w.x) << 42) | (bin(w.y) << 21) | bin(w.z), static_cast<std::uint32_t>(i)});
+      keyed.push_back(
+          {(bin(w.x) << 42) | (bin(w.y) << 21) | bin(w.z), static_cast<std::uint32_t>(i)});
     }
     std::sort(keyed.begin(), keyed.end());  // by cell, then index
     cells.clear();
@@ -400,20 +401,19 @@ void thin_particles(Particles& p, std::vector<double>& g, std::size_t target, En
       alive[x.cell] -= removed;
     }
     compact(p, g);
-    h *= 2.0;  // not yet enough: coarser cells
+    h *= 2.0;                                 // not yet enough: coarser cells
     if (h > 64.0 * h0) h = h0, w_cap *= 2.0;  // one cell holds everyone: a higher cap
   }
 }
 }  // namespace
 
-void reduce_particles(Particles& p, std::vector<double>& g, std::size_t target,
-                      Reduction reduction, Engine& eng, int dimension) {
+void reduce_particles(Particles& p, std::vector<double>& g, std::size_t target, Reduction reduction,
+                      Engine& eng, int dimension) {
   if (reduction == Reduction::kUnbiased) return thin_particles(p, g, target, eng, dimension);
   target = std::max<std::size_t>(target, 2);
   if (p.size() <= target) return;
   const auto [G, V, E] = weighted_centre(p, g);
-  const double h0 =
-      0.5 * std::sqrt(std::max(E / (static_cast<double>(dimension) * G), 1e-300));
+  const double h0 = 0.5 * std::sqrt(std::max(E / (static_cast<double>(dimension) * G), 1e-300));
   double h = h0;
   // A merged group weighs at most w_cap = 8 G / target: merging whole crowded cells again and
   // again would concentrate the mass on a few heavy particles (the effective number 1/sum g^2
@@ -463,7 +463,8 @@ void reduce_particles(Particles& p, std::vector<double>& g, std::size_t target,
         }
         if (members.size() >= 3) {
           // The direction of an energy merge: isotropic in the velocity space (the plane in d = 2).
-          merge_group(p, g, members, reduction, dimension == 2 ? unit_circle(eng) : unit_vector(eng));
+          merge_group(p, g, members, reduction,
+                      dimension == 2 ? unit_circle(eng) : unit_vector(eng));
           count -= members.size() - 2;
         }
         members.clear();
@@ -612,7 +613,9 @@ void WeightedEnsemble::fold_scale() {
   // the round-off, which the fold absorbs too) cooled the gas.
   const auto folded = GaussianThermostat::fold(
       std::span<Particle>(p_.data(), p_.size()), {}, v0_,
-      [&](double G) { return GaussianThermostat::target_of(c_.dimension, G, c_.initial_temperature); },
+      [&](double G) {
+        return GaussianThermostat::target_of(c_.dimension, G, c_.initial_temperature);
+      },
       [&](auto fn) {
         for (std::size_t i = 0; i < p_.size(); ++i) fn(i, g_[i], 0.0);
       });
@@ -666,9 +669,9 @@ void WeightedEnsemble::reduce_to_cap() {
   if (p_.size() <= c_.weights.max_particles) return;
   kick_all_to(t_);  // a group is merged at one time
   thin_dust();
-  reduce_particles(p_, g_,
-                   static_cast<std::size_t>(kReduceTo * static_cast<double>(c_.weights.max_particles)),
-                   c_.weights.reduction, reduce_, c_.dimension);
+  reduce_particles(
+      p_, g_, static_cast<std::size_t>(kReduceTo * static_cast<double>(c_.weights.max_particles)),
+      c_.weights.reduction, reduce_, c_.dimension);
   ++reductions_;
   if (gaussian_) {  // the merges keep the energy; the fold makes its sums exact again
     fold_scale();
@@ -767,8 +770,7 @@ bool WeightedEnsemble::advance_with(double s, const std::atomic<bool>* pause) {
   const double K = c_.kernel.area * c_.kernel.gamma * c_.kernel.C * (1.0 + kappa);  // 4 pi in d = 3
   std::uint64_t events = 0;
   for (;;) {
-    if (pause && (events & kPauseMask) == 0 && pause->load(std::memory_order_relaxed))
-      return false;
+    if (pause && (events & kPauseMask) == 0 && pause->load(std::memory_order_relaxed)) return false;
     // Majorant process: the ordered pair (i, j), i != j, is proposed at rate
     // (1 + kappa) K_B U^lambda g_i, K_B = 4 pi gamma C (i by weight from the sum tree, j uniform
     // among the n - 1 others), so the unordered pair at rate (1 + kappa) K_B U^lambda (g_i + g_j)
@@ -812,7 +814,8 @@ bool WeightedEnsemble::advance_with(double s, const std::atomic<bool>* pause) {
       double e_before = 0.0;
       if (gaussian_) e_before = gi * norm2(a.v - v0_) + gj * norm2(b.v - v0_);
       if (constant_law) [[likely]]
-        weighted_collide(p_, g_, i, j, Geo::direction(a.v - b.v, events_), alpha, kappa, t_, floor_);
+        weighted_collide(p_, g_, i, j, Geo::direction(a.v - b.v, events_), alpha, kappa, t_,
+                         floor_);
       else
         weighted_collide(p_, g_, i, j, Geo::direction(a.v - b.v, events_), c_.restitution, kappa,
                          t_, gaussian_ ? gauss_.s2 : 1.0, floor_);
@@ -864,7 +867,8 @@ void WeightedEnsemble::visit_state(StateArchive& a) {
   a.pack("scalars", real("t", t_, within(0.0, c_.t_end, "t_end")), real("V_x", v0_.x),
          real("V_y", v0_.y), real("V_z", v0_.z, zero_if(c_.dimension == 2, "in dimension 2")),
          real("u_max", u_max_, at_least(0.0)), real("split scale", split_scale_, at_least(0.0)));
-  a.each("weighted_particles", n, 3, [&](std::size_t i) { return p_[i].t; }, within(0.0, t_, "t"));
+  a.each(
+      "weighted_particles", n, 3, [&](std::size_t i) { return p_[i].t; }, within(0.0, t_, "t"));
   a.stream("events_stream", events_);
   a.stream("pairs_stream", pairs_);
   a.stream("sweep_stream", sweep_);
@@ -900,8 +904,7 @@ WeightedEnsemble::WeightedEnsemble(const DsmcConfig& config, const H5Reader& in,
 // ---- Observers ----
 
 Observation measure_weighted(std::span<const Particle> p, std::span<const double> g,
-                             std::span<double> moments,
-                             int dimension) {
+                             std::span<double> moments, int dimension) {
   if (moments.size() > static_cast<std::size_t>(kMaxMoments))
     throw std::logic_error("measure_weighted: more than kMaxMoments speed moments");
   const std::size_t P = moments.size();

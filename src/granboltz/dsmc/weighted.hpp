@@ -87,8 +87,8 @@ std::size_t thin_step(Particles& p, std::vector<double>& g, std::span<const std:
 /// enough particles can be merged) and the most crowded cells (at least 3 particles) are merged
 /// first, so that sparse cells, the light tail particles among them, survive. Removes the
 /// zero-weight slots. Deterministic given the particles and the engine.
-void reduce_particles(Particles& p, std::vector<double>& g, std::size_t target,
-                      Reduction reduction, Engine& eng, int dimension = 3);
+void reduce_particles(Particles& p, std::vector<double>& g, std::size_t target, Reduction reduction,
+                      Engine& eng, int dimension = 3);
 
 /// What one split sweep did: particles added as copies, particles removed by roulette.
 struct SplitCounts {
@@ -157,12 +157,12 @@ class WeightedEnsemble {
   void kick_all_to(double s);
   void reduce_to_cap();
   void split_sweep();
-  void thin_dust();    // removes the particles lighter than their threshold (weighted.cpp)
+  void thin_dust();  // removes the particles lighter than their threshold (weighted.cpp)
   // Gaussian thermostat: the stored velocities w relate to the true ones by v = V + s (w - V),
   // V = v0_, s^2 = gauss_.s2, as in the constant-weight engine (the weighted collision map is
   // linear in the velocities, so it commutes with the scale; the weights do not see it).
-  void fold_scale();         // v := V + f (w - m), f from the exact weighted sums: T = T0
-  void recompute_majorant(); // u_max = 2 max |v - V|: strict, and free to shrink
+  void fold_scale();          // v := V + f (w - m), f from the exact weighted sums: T = T0
+  void recompute_majorant();  // u_max = 2 max |v - V|: strict, and free to shrink
 
   const DsmcConfig& c_;
   Particles p_;
@@ -190,8 +190,7 @@ class WeightedEnsemble {
 /// sum_j g_j delta_{v_j}; o[0] is the density sum g (1 to round-off). The histogram adds the
 /// weights per shell to `weight` and the particle numbers per shell to `count`.
 Observation measure_weighted(std::span<const Particle> p, std::span<const double> g,
-                             std::span<double> moments = {},
-                             int dimension = 3);
+                             std::span<double> moments = {}, int dimension = 3);
 void radial_histogram_weighted(std::span<const Particle> p, std::span<const double> g,
                                const HistogramSpec& spec, Vec3 V, double* weight,
                                std::uint64_t* count);

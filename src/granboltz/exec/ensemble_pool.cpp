@@ -1,9 +1,9 @@
 #include "granboltz/exec/ensemble_pool.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <condition_variable>
 #include <cstdio>
-#include <algorithm>
 #include <exception>
 #include <memory>
 #include <mutex>
@@ -25,9 +25,12 @@ static_assert(std::atomic<bool>::is_always_lock_free);
 
 std::string format_seconds(double s) {
   char buf[32];
-  if (s < 120) std::snprintf(buf, sizeof buf, "%.0f s", s);
-  else if (s < 7200) std::snprintf(buf, sizeof buf, "%.1f min", s / 60);
-  else std::snprintf(buf, sizeof buf, "%.1f h", s / 3600);
+  if (s < 120)
+    std::snprintf(buf, sizeof buf, "%.0f s", s);
+  else if (s < 7200)
+    std::snprintf(buf, sizeof buf, "%.1f min", s / 60);
+  else
+    std::snprintf(buf, sizeof buf, "%.1f h", s / 3600);
   return buf;
 }
 }  // namespace
@@ -102,9 +105,9 @@ void for_each_ensemble(const std::vector<std::uint64_t>& ensembles, const Driver
   {
     std::unique_lock<std::mutex> lock(mutex);
     while (running > 0) {
-      const auto wake = polling ? std::min({next_report, next_tick,
-                                            std::chrono::steady_clock::now() + kStopPoll})
-                                : next_report;
+      const auto wake =
+          polling ? std::min({next_report, next_tick, std::chrono::steady_clock::now() + kStopPoll})
+                  : next_report;
       if (finished.wait_until(lock, wake, [&] { return running == 0; })) break;
       if (options.fraction) options.fraction->store(completed());
       if (options.cancel && !cancelled && options.cancel->load()) {

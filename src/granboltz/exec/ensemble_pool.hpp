@@ -18,9 +18,9 @@ class H5Writer;
 using ProgressSlot = std::atomic<double>;
 
 struct DriverOptions {
-  unsigned threads = 0;        ///< 0: all hardware threads
-  bool progress = true;        ///< report on stderr when the run lasts more than a few seconds
-  std::string label = "run";   ///< shown in progress lines
+  unsigned threads = 0;           ///< 0: all hardware threads
+  bool progress = true;           ///< report on stderr when the run lasts more than a few seconds
+  std::string label = "run";      ///< shown in progress lines
   double checkpoint_every = 0.0;  ///< seconds between calls of tick; 0: never
   /// Saves the record of the ensembles completed so far and, through the second argument, the
   /// state of ensembles in progress (set by run_to_file).

@@ -63,8 +63,7 @@ long temporary_pid(const std::string& rest) {
   const std::string digits = rest.substr(0, rest.find('.'));
   long pid = 0;
   const auto res = std::from_chars(digits.data(), digits.data() + digits.size(), pid);
-  if (digits.empty() || res.ec != std::errc() || res.ptr != digits.data() + digits.size())
-    return 0;
+  if (digits.empty() || res.ec != std::errc() || res.ptr != digits.data() + digits.size()) return 0;
   return pid;
 }
 
@@ -110,8 +109,8 @@ void fix_superblock_checksum(std::vector<unsigned char>& image) {
 }
 
 // The hash of one dataset: its path, type (class, size, sign), shape and stored bytes.
-std::uint64_t dataset_hash(const std::string& path, int type_class, std::size_t type_size,
-                           int sign, const Dims& dims, const void* bytes, std::size_t n) {
+std::uint64_t dataset_hash(const std::string& path, int type_class, std::size_t type_size, int sign,
+                           const Dims& dims, const void* bytes, std::size_t n) {
   Fnv f;
   f.add(path.data(), path.size());
   f.value(type_class);
@@ -176,17 +175,17 @@ void check_output_path(const std::string& path, const std::vector<std::string>& 
   namespace fs = std::filesystem;
   const fs::path p(path);
   const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
-  struct stat d{};
+  struct stat d {};
   if (::stat(dir.c_str(), &d) != 0 || !S_ISDIR(d.st_mode))
     fail(path + ": directory " + dir.string() + " does not exist; create it first");
-  struct stat st{};
+  struct stat st {};
   if (::lstat(path.c_str(), &st) != 0) return;  // a new file
   if (S_ISDIR(st.st_mode)) fail(path + ": is a directory; give the output file's name");
   if (!S_ISREG(st.st_mode))
     fail(path + ": exists and is " + file_kind(st.st_mode) +
          "; an output is written only as a new or a regular file");
   for (const auto& in : inputs) {
-    struct stat is{};
+    struct stat is {};
     if (!in.empty() && ::stat(in.c_str(), &is) == 0 && is.st_dev == st.st_dev &&
         is.st_ino == st.st_ino)
       fail(path + ": is the input " + in + " (the same file); the output must be another file");
@@ -194,7 +193,7 @@ void check_output_path(const std::string& path, const std::vector<std::string>& 
 }
 
 void check_input_file(const std::string& path, const std::string& what) {
-  struct stat st{};
+  struct stat st {};
   if (::stat(path.c_str(), &st) != 0)
     fail(path + (errno == ENOENT ? std::string(": no such file")
                                  : ": cannot open " + what + " (" + std::strerror(errno) + ")"));
@@ -233,7 +232,7 @@ H5Writer::H5Writer(const std::string& path) : path_(path) {
       if (other.rfind(prefix, 0) != 0 || other == own) continue;
       const long pid = temporary_pid(other.substr(prefix.size()));
       if (pid <= 0) continue;
-      struct stat st{};
+      struct stat st {};
       if (::lstat(entry.path().c_str(), &st) != 0 || !S_ISREG(st.st_mode)) continue;
       const int fd = ::open(entry.path().c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
       if (fd < 0) continue;
@@ -286,8 +285,8 @@ void H5Writer::group(const std::string& path) {
   if (g.id < 0) fail(path_ + ": cannot create group " + path);
 }
 
-void H5Writer::write_raw(const std::string& path, hid_t mem_type, hid_t file_type,
-                         const void* data, const Dims& dims) {
+void H5Writer::write_raw(const std::string& path, hid_t mem_type, hid_t file_type, const void* data,
+                         const Dims& dims) {
   Handle space{dims.empty() ? H5Screate(H5S_SCALAR)
                             : H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr),
                H5Sclose};
@@ -318,10 +317,11 @@ void H5Writer::write_raw(const std::string& path, hid_t mem_type, hid_t file_typ
   if (ds.id < 0) fail(path_ + ": cannot create dataset " + path);
   if (product(dims) > 0 && H5Dwrite(ds.id, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)
     fail(path_ + ": cannot write dataset " + path);
-  const int sign = H5Tget_class(file_type) == H5T_INTEGER ? static_cast<int>(H5Tget_sign(file_type)) : -1;
-  digests_.emplace_back(path, dataset_hash(path, static_cast<int>(H5Tget_class(file_type)),
-                                           H5Tget_size(file_type), sign, dims, data,
-                                           product(dims) * H5Tget_size(file_type)));
+  const int sign =
+      H5Tget_class(file_type) == H5T_INTEGER ? static_cast<int>(H5Tget_sign(file_type)) : -1;
+  digests_.emplace_back(
+      path, dataset_hash(path, static_cast<int>(H5Tget_class(file_type)), H5Tget_size(file_type),
+                         sign, dims, data, product(dims) * H5Tget_size(file_type)));
 }
 
 void H5Writer::write(const std::string& path, const std::vector<double>& data, const Dims& dims) {
@@ -343,7 +343,8 @@ void H5Writer::write(const std::string& path, const std::vector<std::string>& da
   std::size_t width = 1;
   for (const std::string& s : data) width = std::max(width, s.size());
   std::vector<char> bytes(width * data.size(), '\0');
-  for (std::size_t k = 0; k < data.size(); ++k) std::copy(data[k].begin(), data[k].end(), &bytes[k * width]);
+  for (std::size_t k = 0; k < data.size(); ++k)
+    std::copy(data[k].begin(), data[k].end(), &bytes[k * width]);
   Handle type{H5Tcopy(H5T_C_S1), H5Tclose};
   H5Tset_size(type.id, width);
   H5Tset_strpad(type.id, H5T_STR_NULLPAD);
@@ -413,7 +414,7 @@ void H5Writer::commit() {
     fail(path_ + ": cannot write the file (" + why + "); nothing was written to " + path_);
   }
   // Checked again: the output may have been replaced by a FIFO or a link since the start.
-  struct stat st{};
+  struct stat st {};
   if (::lstat(path_.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
     discard();
     fail(path_ + ": is now " + file_kind(st.st_mode) + "; nothing was written to it");
@@ -427,19 +428,17 @@ void H5Writer::commit() {
   slot_ = -1;
   const int fd = fd_;
   fd_ = -1;
-  if (::close(fd) != 0)
-    fail(path_ + ": cannot close the file (" + std::strerror(errno) + ")");
+  if (::close(fd) != 0) fail(path_ + ": cannot close the file (" + std::strerror(errno) + ")");
 }
 
 H5Reader::H5Reader(const std::string& path) : path_(path) {
   silence_hdf5_errors();
-  struct stat st{};
+  struct stat st {};
   if (::stat(path.c_str(), &st) != 0) fail(path + ": no such file");
   if (S_ISDIR(st.st_mode)) fail(path + ": is a directory, not an HDF5 file");
   // A FIFO would block HDF5's open, a device would be read without end.
   if (!S_ISREG(st.st_mode)) fail(path + ": is " + file_kind(st.st_mode) + ", not an HDF5 file");
-  if (H5Fis_hdf5(path.c_str()) <= 0)
-    fail(path + ": not a readable HDF5 file");
+  if (H5Fis_hdf5(path.c_str()) <= 0) fail(path + ": not a readable HDF5 file");
   file_ = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   if (file_ < 0) fail(path + ": cannot open HDF5 file (corrupt or truncated?)");
 }

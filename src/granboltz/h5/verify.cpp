@@ -27,8 +27,8 @@ FileCheck check_here(const std::string& path) {
     if (c.problems.empty() && in.has_attr("/", "digest") &&
         in.attr_uint64("/", "digest") != in.digest())
       c.problems.push_back("/: the datasets do not match its digest (edited or damaged)");
-    if (c.problems.empty() && in.has_attr("/", "kind") && in.attr_string("/", "kind") == "checkpoint" &&
-        !in.has_attr("/", "digest"))
+    if (c.problems.empty() && in.has_attr("/", "kind") &&
+        in.attr_string("/", "kind") == "checkpoint" && !in.has_attr("/", "digest"))
       c.problems.push_back("/: a checkpoint without its digest attribute");
   } catch (const std::runtime_error& e) {
     const std::string what = e.what(), prefix = path + ": ";
@@ -88,9 +88,8 @@ FileCheck check_file(const std::string& path) {
   }
   FileCheck c;
   if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-    const std::string how = WIFSIGNALED(status)
-                                ? "signal " + std::to_string(WTERMSIG(status))
-                                : "exit " + std::to_string(WEXITSTATUS(status));
+    const std::string how = WIFSIGNALED(status) ? "signal " + std::to_string(WTERMSIG(status))
+                                                : "exit " + std::to_string(WEXITSTATUS(status));
     c.problems = {"/: the HDF5 library crashed reading the file (" + how +
                   "): a damaged internal structure"};
     return c;
@@ -99,13 +98,17 @@ FileCheck check_file(const std::string& path) {
   for (std::size_t line = 0, end; (end = text.find('\n', start)) != std::string::npos;
        start = end + 1, ++line) {
     const std::string s = text.substr(start, end - start);
-    if (line == 0) c.datasets = static_cast<std::size_t>(std::stoull(s.empty() ? "0" : s));
-    else c.problems.push_back(s);
+    if (line == 0)
+      c.datasets = static_cast<std::size_t>(std::stoull(s.empty() ? "0" : s));
+    else
+      c.problems.push_back(s);
   }
   return c;
 }
 
-std::vector<std::string> file_problems(const std::string& path) { return check_file(path).problems; }
+std::vector<std::string> file_problems(const std::string& path) {
+  return check_file(path).problems;
+}
 
 bool verify_files(const std::vector<std::string>& paths, std::ostream& out, std::ostream& err) {
   bool sound = true;

@@ -23,7 +23,9 @@ namespace granboltz {
 struct Sphere3 {
   static constexpr int kDim = 3;
   template <class E>
-  GRANBOLTZ_HOT static Vec3 direction(Vec3, E& eng) { return unit_vector(eng); }
+  GRANBOLTZ_HOT static Vec3 direction(Vec3, E& eng) {
+    return unit_vector(eng);
+  }
 };
 
 /// A uniform direction on S^1 without trigonometry (von Neumann 1951): (a, b) uniform in the unit
@@ -45,7 +47,9 @@ GRANBOLTZ_HOT Vec3 unit_circle(E& eng) {
 struct CircleUniform {
   static constexpr int kDim = 2;
   template <class E>
-  GRANBOLTZ_HOT static Vec3 direction(Vec3, E& eng) { return unit_circle(eng); }
+  GRANBOLTZ_HOT static Vec3 direction(Vec3, E& eng) {
+    return unit_circle(eng);
+  }
 };
 
 /// The hard-disk direction for the relative velocity u (in the plane): one uniform draw.
@@ -55,8 +59,8 @@ GRANBOLTZ_HOT Vec3 disk_impact_direction(Vec3 u, E& eng) {
   const double u2 = u.x * u.x + u.y * u.y;
   if (!(u2 > 0.0)) return {1.0, 0.0, 0.0};  // u = 0: the map does not move the pair
   const double inv = 1.0 / std::sqrt(u2);
-  const double cx = u.x * inv, cy = u.y * inv;        // u^
-  const double cos2 = 1.0 - 2.0 * s * s;              // cos 2theta
+  const double cx = u.x * inv, cy = u.y * inv;           // u^
+  const double cos2 = 1.0 - 2.0 * s * s;                 // cos 2theta
   const double sin2 = 2.0 * s * std::sqrt(1.0 - s * s);  // sin 2theta
   // u^_perp = (-cy, cx)
   return {-(cos2 * cx - sin2 * cy), -(cos2 * cy + sin2 * cx), 0.0};
@@ -65,7 +69,9 @@ GRANBOLTZ_HOT Vec3 disk_impact_direction(Vec3 u, E& eng) {
 struct CircleImpact {
   static constexpr int kDim = 2;
   template <class E>
-  GRANBOLTZ_HOT static Vec3 direction(Vec3 u, E& eng) { return disk_impact_direction(u, eng); }
+  GRANBOLTZ_HOT static Vec3 direction(Vec3 u, E& eng) {
+    return disk_impact_direction(u, eng);
+  }
 };
 
 /// |S^{d-1}|: the kernel C |u|^lambda integrated over the directions (4 pi, 2 pi).

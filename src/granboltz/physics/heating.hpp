@@ -3,8 +3,8 @@
 #include <cmath>
 
 #include "granboltz/core/hot.hpp"
-#include "granboltz/random/samplers.hpp"
 #include "granboltz/core/vec3.hpp"
+#include "granboltz/random/samplers.hpp"
 
 namespace granboltz {
 

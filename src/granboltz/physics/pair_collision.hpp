@@ -19,7 +19,7 @@ inline Vec3 cross(Vec3 a, Vec3 b) {
 struct PairTerms {
   double mu_a = 0.5, mu_b = 0.5;  // m_a/(m_a+m_b), m_b/(m_a+m_b)
   double r_a = 0.5, r_b = 0.5;    // radii sigma/2
-  double tangential = 0.0;        // t = (1+beta) k/(1+k), 1/k = m_ab (r_a^2/I_a + r_b^2/I_b); 0: smooth
+  double tangential = 0.0;  // t = (1+beta) k/(1+k), 1/k = m_ab (r_a^2/I_a + r_b^2/I_b); 0: smooth
   double spin_a = 0.0, spin_b = 0.0;  // m_ab r_a / I_a, m_ab r_b / I_b  (m_ab = m_a m_b/(m_a+m_b))
 };
 

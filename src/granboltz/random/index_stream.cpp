@@ -7,12 +7,13 @@
 // The block's arithmetic is integer only, so every instruction set gives the same numbers; on
 // x86-64 the loader picks the widest one the CPU has (GCC function multiversioning), where a
 // 64-bit rotate of four lanes is one instruction (AVX-512VL) or three (AVX2) instead of six.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__)
-#define GRANBOLTZ_CLONES __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && \
+    !defined(__SANITIZE_ADDRESS__)
+#define GRANBOLTZ_CLONES \
+  __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
 #else
 #define GRANBOLTZ_CLONES
 #endif
-
 
 namespace granboltz {
 
@@ -52,7 +53,8 @@ GRANBOLTZ_CLONES void IndexStream::fill(unsigned from) {
   for (unsigned k = 0; k < kBlock; ++k) out[k] = {index[k], low[k]};
   if (rejected) [[unlikely]]
     for (unsigned k = 0; k < kBlock; ++k)
-      for (std::uint32_t h = high[k]; static_cast<std::uint32_t>(std::uint64_t{h} * range_) < threshold_;) {
+      for (std::uint32_t h = high[k];
+           static_cast<std::uint32_t>(std::uint64_t{h} * range_) < threshold_;) {
         std::uint64_t l0 = s0_[0], l1 = s1_[0], l2 = s2_[0], l3 = s3_[0];
         const std::uint64_t r = Engine::step(l0, l1, l2, l3);
         s0_[0] = l0, s1_[0] = l1, s2_[0] = l2, s3_[0] = l3;

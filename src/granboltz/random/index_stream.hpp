@@ -37,7 +37,8 @@ class IndexStream {
   /// cache line as w[k]).
   template <bool kNext = false, class P>
   IndexBits next(const double* w, const P* p) {
-    if (pos_ == kBlock) [[unlikely]] pos_ = refill();
+    if (pos_ == kBlock) [[unlikely]]
+      pos_ = refill();
     const std::uint32_t ahead = buffer_[pos_ + kPrefetch].i;
     __builtin_prefetch(&w[ahead]);
     __builtin_prefetch(&p[ahead], 1);
@@ -51,7 +52,8 @@ class IndexStream {
   std::uint32_t select(const double* w, const P* p, double scale) {
     unsigned pos = pos_;  // in a register through the loop
     for (;;) {
-      if (pos == kBlock) [[unlikely]] pos = refill();
+      if (pos == kBlock) [[unlikely]]
+        pos = refill();
       const std::uint32_t ahead = buffer_[pos + kPrefetch].i;
       __builtin_prefetch(&w[ahead]);
       __builtin_prefetch(&p[ahead], 1);

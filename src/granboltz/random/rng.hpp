@@ -57,7 +57,9 @@ class Xoshiro256pp {
 
  private:
   template <class U>
-  static U rotl(const U& x, int k) { return (x << k) | (x >> (64 - k)); }
+  static U rotl(const U& x, int k) {
+    return (x << k) | (x >> (64 - k));
+  }
   State s_{1, 2, 3, 4};
   std::uint64_t draws_ = 0;
 };
@@ -68,19 +70,19 @@ using Engine = Xoshiro256pp;
 /// The independent consumers of randomness within one ensemble. Never renumber: outputs of
 /// earlier versions would no longer be reproducible.
 enum class Consumer : std::uint64_t {
-  kInitial = 1,   ///< initial velocities
-  kEvents = 2,    ///< waiting times, fictitious tests, directions, kicks of colliding pairs
-  kPairs = 3,     ///< indices of collision partners (drawn ahead so they can be prefetched)
-  kSweep = 4,     ///< kicks of all particles (observations, splitting kick steps)
-  kReduce = 5,    ///< SWPM reduction: merge directions (dsmc.weights)
-  kSplit = 6,     ///< SWPM importance splitting: roulette draws (dsmc.weights.split)
-  kCandidates = 7,  ///< pairwise majorant: heavy-partner candidates (several lanes)
-  kPartners = 8,    ///< pairwise majorant: the other partners and acceptance bits (several lanes)
+  kInitial = 1,       ///< initial velocities
+  kEvents = 2,        ///< waiting times, fictitious tests, directions, kicks of colliding pairs
+  kPairs = 3,         ///< indices of collision partners (drawn ahead so they can be prefetched)
+  kSweep = 4,         ///< kicks of all particles (observations, splitting kick steps)
+  kReduce = 5,        ///< SWPM reduction: merge directions (dsmc.weights)
+  kSplit = 6,         ///< SWPM importance splitting: roulette draws (dsmc.weights.split)
+  kCandidates = 7,    ///< pairwise majorant: heavy-partner candidates (several lanes)
+  kPartners = 8,      ///< pairwise majorant: the other partners and acceptance bits (several lanes)
   kInitialSpin = 11,  ///< rough particles: initial angular velocities (their own stream, so that
                       ///< a rough run starts with the smooth run's velocities)
-  kIntruder = 16, ///< TV06 intruder events
-  kBath = 17,     ///< TV06 DSMC bath
-  kNeedle = 18,   ///< TV06 needle events
+  kIntruder = 16,     ///< TV06 intruder events
+  kBath = 17,         ///< TV06 DSMC bath
+  kNeedle = 18,       ///< TV06 needle events
 };
 
 /// The stream of `consumer` in ensemble `ensemble` of a run with master seed `seed` (`lane`: one

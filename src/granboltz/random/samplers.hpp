@@ -14,9 +14,9 @@ namespace granboltz {
 namespace detail {
 template <int N>
 struct ZigguratTables {
-  double x[N + 1];   ///< layer edges, x[0] = V/f(R) > x[1] = R > ... > x[N] = 0
-  double f[N + 1];   ///< f(x[i])
-  double ratio[N];   ///< x[i+1]/x[i]: the fraction of layer i inside the density
+  double x[N + 1];  ///< layer edges, x[0] = V/f(R) > x[1] = R > ... > x[N] = 0
+  double f[N + 1];  ///< f(x[i])
+  double ratio[N];  ///< x[i+1]/x[i]: the fraction of layer i inside the density
   // The wedge of layer i (x[i+1] <= |x| < x[i]) decided without exp: the chord through its
   // corners, L(x) = f[i] + slope[i] (|x| - x[i]), and bounds of f - L over the layer, widened by a
   // margin far above rounding (1e-13, against errors of order 1e-16 in L and in libm's exp). A

@@ -10,16 +10,16 @@
 #include <stdexcept>
 #include <string>
 
-#include "granboltz/random/samplers.hpp"
 #include "granboltz/core/gsl_errors.hpp"
+#include "granboltz/random/samplers.hpp"
 
 namespace granboltz::detail {
 namespace {
 
 struct Shape {
-  double (*f)(double);        // decreasing density shape on [0, inf)
-  double (*finv)(double);     // its inverse on (0, 1]
-  double (*tail)(double);     // integral of f from R to infinity
+  double (*f)(double);     // decreasing density shape on [0, inf)
+  double (*finv)(double);  // its inverse on (0, 1]
+  double (*tail)(double);  // integral of f from R to infinity
 };
 
 double normal_f(double x) { return std::exp(-0.5 * x * x); }
@@ -48,7 +48,10 @@ double build(const Shape& s, double r, ZigguratTables<N>* z) {
 template <int N>
 ZigguratTables<N> make(const Shape& s, double lo, double hi) {
   ZigguratTables<N> z{};
-  struct Ctx { const Shape* s; ZigguratTables<N>* z; } ctx{&s, &z};
+  struct Ctx {
+    const Shape* s;
+    ZigguratTables<N>* z;
+  } ctx{&s, &z};
   gsl_function fn;
   fn.function = [](double r, void* p) {
     auto* c = static_cast<Ctx*>(p);
@@ -70,8 +73,8 @@ ZigguratTables<N> make(const Shape& s, double lo, double hi) {
   gsl_root_fsolver_free(solver);
   // Fixed shapes and brackets: a failure here is a bug, reported rather than aborting.
   if (status != GSL_SUCCESS)
-    throw std::runtime_error("ziggurat tables: root finder failed (" +
-                             describe_gsl_status(status) + ")");
+    throw std::runtime_error("ziggurat tables: root finder failed (" + describe_gsl_status(status) +
+                             ")");
   build(s, r, &z);
   for (int i = 0; i <= N; ++i) z.f[i] = s.f(z.x[i]);
   for (int i = 0; i < N; ++i) z.ratio[i] = z.x[i + 1] / z.x[i];
@@ -99,7 +102,8 @@ ZigguratTables<N> make(const Shape& s, double lo, double hi) {
 
 }  // namespace
 
-const ZigguratTables<256> kNormalZiggurat = make<256>({normal_f, normal_finv, normal_tail}, 3.0, 4.5);
+const ZigguratTables<256> kNormalZiggurat =
+    make<256>({normal_f, normal_finv, normal_tail}, 3.0, 4.5);
 const ZigguratTables<128> kNormalZiggurat128 =
     make<128>({normal_f, normal_finv, normal_tail}, 2.8, 4.2);
 const ZigguratTables<256> kExponentialZiggurat = make<256>({exp_f, exp_finv, exp_tail}, 6.0, 9.0);

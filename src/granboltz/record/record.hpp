@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "granboltz/h5/hdf5_io.hpp"
 #include "granboltz/core/int128.hpp"
+#include "granboltz/h5/hdf5_io.hpp"
 #include "granboltz/stats/statistics.hpp"
 
 namespace granboltz {

@@ -10,7 +10,8 @@ namespace granboltz {
 double row_average(const double* x, std::uint64_t R) {
   double sum = 0.0;
   for (std::uint64_t i = 0; i < R; ++i) {
-    if (std::isnan(x[i])) throw std::invalid_argument("row_average: row " + std::to_string(i) + " is NaN");
+    if (std::isnan(x[i]))
+      throw std::invalid_argument("row_average: row " + std::to_string(i) + " is NaN");
     sum += x[i];
   }
   return sum / static_cast<double>(R);
@@ -19,10 +20,11 @@ double row_average(const double* x, std::uint64_t R) {
 double blocked_variance(const double* x, std::uint64_t R, std::uint64_t B) {
   const std::uint64_t n = B ? R / B : 0;
   if (n < 2)
-    throw std::invalid_argument("blocked_variance: " + std::to_string(R) + " rows hold fewer than 2 blocks of " +
-                                std::to_string(B));
+    throw std::invalid_argument("blocked_variance: " + std::to_string(R) +
+                                " rows hold fewer than 2 blocks of " + std::to_string(B));
   for (std::uint64_t i = 0; i < n * B; ++i)
-    if (std::isnan(x[i])) throw std::invalid_argument("blocked_variance: row " + std::to_string(i) + " is NaN");
+    if (std::isnan(x[i]))
+      throw std::invalid_argument("blocked_variance: row " + std::to_string(i) + " is NaN");
   std::vector<double> b(n, 0.0);
   double bsum = 0.0;
   for (std::uint64_t j = 0; j < n; ++j) {

@@ -10,7 +10,8 @@ namespace granboltz {
 double row_average(const double* x, std::uint64_t R);
 
 /// The variance of the average of x[0..R) if blocks of B rows were independent: var(block mean)
-/// B / R over the n = R / B full blocks (leaving out the last R - n B rows). Throws std::invalid_argument for n < 2 or a NaN row.
+/// B / R over the n = R / B full blocks (leaving out the last R - n B rows). Throws
+/// std::invalid_argument for n < 2 or a NaN row.
 double blocked_variance(const double* x, std::uint64_t R, std::uint64_t B);
 
 /// Blocking levels l = 0..L-1 (blocks of 2^l rows) with at least 2 full blocks in R rows.

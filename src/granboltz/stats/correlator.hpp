@@ -33,11 +33,12 @@ class MultipleTauCorrelator {
   /// Everything the correlator holds, for checkpoints: with the same resolution and channels,
   /// restoring it and adding the same samples gives the same bits as never stopping.
   struct State {
-    std::vector<double> shift;        ///< [K][p][C]: level k's values, newest first
-    std::vector<double> block;        ///< [K][C]: the running sum of the block being averaged
-    std::vector<std::uint64_t> fill;  ///< [K]: values that entered level k (capped at p: it is full)
+    std::vector<double> shift;  ///< [K][p][C]: level k's values, newest first
+    std::vector<double> block;  ///< [K][C]: the running sum of the block being averaged
+    std::vector<std::uint64_t>
+        fill;  ///< [K]: values that entered level k (capped at p: it is full)
     std::vector<std::uint64_t> in_block;  ///< [K]: values summed into block k (< m)
-    std::vector<double> sum;          ///< [K][p]: sum over origins and channels of A(t) A(t + lag)
+    std::vector<double> sum;           ///< [K][p]: sum over origins and channels of A(t) A(t + lag)
     std::vector<std::uint64_t> count;  ///< [K][p]: origins summed
   };
 

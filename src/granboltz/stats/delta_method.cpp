@@ -51,7 +51,7 @@ Sonine sonine(const Moments2* M, const Moments2* cross, std::uint64_t P, std::ui
       for (int j = 0; j < q; ++j) v += g[i] * cov[i][j] * g[j];
     return std::max(0.0, v / n);
   };
-  auto bias = [&](const double (&H)[3][3]) {
+  auto bias = [&](const double(&H)[3][3]) {
     double b = 0.0;
     for (int i = 0; i < q; ++i)
       for (int j = 0; j < q; ++j) b += H[i][j] * cov[i][j];
@@ -64,19 +64,18 @@ Sonine sonine(const Moments2* M, const Moments2* cross, std::uint64_t P, std::ui
   const double g2[3] = {-2.0 * c2 * m4 / (m2 * m2 * m2), c2 / (m2 * m2), 0.0};
   r.var_a2 = variance(g2);
   const double m2_3 = m2 * m2 * m2, m2_4 = m2_3 * m2;
-  const double H2[3][3] = {{6.0 * c2 * m4 / m2_4, -2.0 * c2 / m2_3, 0.0},
-                           {-2.0 * c2 / m2_3, 0.0, 0.0},
-                           {0.0, 0.0, 0.0}};
+  const double H2[3][3] = {
+      {6.0 * c2 * m4 / m2_4, -2.0 * c2 / m2_3, 0.0}, {-2.0 * c2 / m2_3, 0.0, 0.0}, {0.0, 0.0, 0.0}};
   r.bias_a2 = bias(H2);
   if (q == 3) {
     r.a3 = 1.0 + 3.0 * r.a2 - c3 * m6 / (m2 * m2 * m2);
     const double g3[3] = {3.0 * g2[0] + 3.0 * c3 * m6 / (m2 * m2 * m2 * m2), 3.0 * g2[1],
                           -c3 / (m2 * m2 * m2)};
     r.var_a3 = variance(g3);
-    const double H3[3][3] = {{3.0 * H2[0][0] - 12.0 * c3 * m6 / (m2_4 * m2), 3.0 * H2[0][1],
-                              3.0 * c3 / m2_4},
-                             {3.0 * H2[1][0], 0.0, 0.0},
-                             {3.0 * c3 / m2_4, 0.0, 0.0}};
+    const double H3[3][3] = {
+        {3.0 * H2[0][0] - 12.0 * c3 * m6 / (m2_4 * m2), 3.0 * H2[0][1], 3.0 * c3 / m2_4},
+        {3.0 * H2[1][0], 0.0, 0.0},
+        {3.0 * c3 / m2_4, 0.0, 0.0}};
     r.bias_a3 = bias(H3);
   }
   return r;

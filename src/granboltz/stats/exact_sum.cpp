@@ -1,9 +1,9 @@
 #include "granboltz/stats/exact_sum.hpp"
 
-#include "granboltz/core/int128.hpp"
-
 #include <cmath>
 #include <stdexcept>
+
+#include "granboltz/core/int128.hpp"
 
 namespace granboltz {
 
@@ -17,9 +17,9 @@ void ExactSum::add(double x) {
   if (!std::isfinite(x)) throw std::domain_error("ExactSum: non-finite value");
   if (x == 0.0) return;
   int e = 0;
-  const double m = std::frexp(x, &e);  // x = m 2^e, 0.5 <= |m| < 1
+  const double m = std::frexp(x, &e);                              // x = m 2^e, 0.5 <= |m| < 1
   const auto mant = static_cast<std::int64_t>(std::ldexp(m, 53));  // exact, |mant| < 2^53
-  const int p = e - 53 + kOffset;  // x = mant * 2^(p - kOffset)
+  const int p = e - 53 + kOffset;                                  // x = mant * 2^(p - kOffset)
   const int idx = p / 32;
   const int sh = p % 32;
   const bool negative = mant < 0;

@@ -1,9 +1,9 @@
 #include "granboltz/stats/statistics.hpp"
 
+#include <gsl/gsl_cdf.h>
+
 #include <algorithm>
 #include <cmath>
-
-#include <gsl/gsl_cdf.h>
 
 namespace granboltz {
 

@@ -16,7 +16,8 @@ SteadyStats steady_interval(SteadyEstimator how, const MeanCi& all, std::uint64_
   r.variance = all.variance;
   r.effective_samples = static_cast<double>(S);
   r.dof = INFINITY;
-  if (how == SteadyEstimator::kIndependent || S == 0) {  // every (ensemble, t_m) sample counted independent
+  if (how == SteadyEstimator::kIndependent ||
+      S == 0) {  // every (ensemble, t_m) sample counted independent
     r.sigma = S ? std::sqrt(all.variance / static_cast<double>(S)) : 0.0;
     r.ci = all.ci;
     return r;

@@ -11,13 +11,13 @@ namespace granboltz {
 
 struct SteadyStats {
   double mean = 0.0;
-  double variance = 0.0;           ///< over all (ensemble, t_m) samples, as before
-  double sigma = 0.0;              ///< standard error of the mean
-  double ci = 0.0;                 ///< confidence half-width from sigma
-  double tau_int = 0.5;            ///< sigma^2 samples / (2 variance), in observation rows
-  double effective_samples = 0.0;  ///< samples / (2 tau_int)
-  double dof = 0.0;                ///< degrees of freedom of sigma (inf: independent)
-  std::uint64_t block_rows = 1;    ///< blocking: the block length chosen, in rows
+  double variance = 0.0;                  ///< over all (ensemble, t_m) samples, as before
+  double sigma = 0.0;                     ///< standard error of the mean
+  double ci = 0.0;                        ///< confidence half-width from sigma
+  double tau_int = 0.5;                   ///< sigma^2 samples / (2 variance), in observation rows
+  double effective_samples = 0.0;         ///< samples / (2 tau_int)
+  double dof = 0.0;                       ///< degrees of freedom of sigma (inf: independent)
+  std::uint64_t block_rows = 1;           ///< blocking: the block length chosen, in rows
   const char* estimator = "independent";  ///< "ensembles" | "blocking" | "independent"
 };
 

@@ -1,4 +1,6 @@
 // The `intruder:` and `needle:` sections: reading, validation and emission.
+#include "granboltz/tv06/config.hpp"
+
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
@@ -6,7 +8,6 @@
 #include <string>
 
 #include "granboltz/config/reader.hpp"
-#include "granboltz/tv06/config.hpp"
 
 namespace granboltz {
 
@@ -57,7 +58,8 @@ void check_needle_scales(const Section& s, const NeedleConfig& c) {
   std::snprintf(here, sizeof here, " (here %.3g)", inertia);
   s.check(inertia >= 1e-300 && inertia <= 1e300, "length", c.length,
           "must give a moment of inertia 1e-300 <= M L^2/12 <= 1e300" + std::string(here));
-  // Phi(0, 0) = rho L / sqrt(pi a); at thermal speeds the rate is at most ~ (1 + 5/sqrt(M)) times it.
+  // Phi(0, 0) = rho L / sqrt(pi a); at thermal speeds the rate is at most ~ (1 + 5/sqrt(M)) times
+  // it.
   const double rate = c.density * c.length / std::sqrt(M_PI * c.a);
   const double fastest = rate * (1.0 + 5.0 / std::sqrt(c.mass));
   std::snprintf(here, sizeof here, " (here %.3g)", rate);

@@ -10,8 +10,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "granboltz/random/rng.hpp"
 #include "granboltz/core/gsl_errors.hpp"
+#include "granboltz/random/rng.hpp"
 
 namespace granboltz::tv06 {
 
@@ -69,8 +69,7 @@ double NeedleRate::operator()(double vn, double omega) const {
 
 // ---------------------------------------------------------------------------------------------
 
-WaitingTimeSolver::WaitingTimeSolver(const NeedleRate& rate)
-    : rate_(rate), workspace_(nullptr) {
+WaitingTimeSolver::WaitingTimeSolver(const NeedleRate& rate) : rate_(rate), workspace_(nullptr) {
   install_gsl_error_handler();
   workspace_ = gsl_integration_workspace_alloc(kWorkspace);
   if (!workspace_) throw std::bad_alloc();
@@ -305,8 +304,10 @@ double sample_by_inversion(WaitingTimeSolver& solver, const NeedleState& s, Engi
     return solver.sample(s, eng);
   } catch (const std::runtime_error& e) {
     char where[160];
-    std::snprintf(where, sizeof where, "needle.waiting_time = inversion (mass = %.6g, length = %.6g, "
-                  "density = %.6g, a = %.6g): ", c.mass, c.length, c.density, c.a);
+    std::snprintf(where, sizeof where,
+                  "needle.waiting_time = inversion (mass = %.6g, length = %.6g, "
+                  "density = %.6g, a = %.6g): ",
+                  c.mass, c.length, c.density, c.a);
     throw std::runtime_error(where + std::string(e.what()) + "; use waiting_time: thinning");
   }
 }

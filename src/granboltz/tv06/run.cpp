@@ -159,9 +159,8 @@ void add_finite(Record& record, const std::string& name, double value, std::uint
   if (!std::isfinite(value)) {
     char text[32];
     std::snprintf(text, sizeof text, "%g", value);
-    throw std::runtime_error(std::string(model) + ": " + name + " = " + text +
-                             " in ensemble " + std::to_string(e) +
-                             ": the simulation overflowed; are the " + model +
+    throw std::runtime_error(std::string(model) + ": " + name + " = " + text + " in ensemble " +
+                             std::to_string(e) + ": the simulation overflowed; are the " + model +
                              " section's masses, densities or lengths extreme?");
   }
   record.moments(name)[0].add(value);
@@ -205,10 +204,9 @@ void run_tv06(const Tv06RunConfig& config, const DriverOptions& options, Record&
           add_finite(record, "R", r.R, e, "needle");
           add_histogram(record, "velocity_histogram", r.velocity_histogram, r.samples);
           add_histogram(record, "omega_histogram", r.omega_histogram, r.samples);
-          record.add_ensemble(e, {r.translational_ratio, r.rotational_ratio, r.R,
-                                  static_cast<double>(r.collisions),
-                                  static_cast<double>(r.samples), r.time,
-                                  static_cast<double>(r.fictitious)});
+          record.add_ensemble(
+              e, {r.translational_ratio, r.rotational_ratio, r.R, static_cast<double>(r.collisions),
+                  static_cast<double>(r.samples), r.time, static_cast<double>(r.fictitious)});
         });
   }
 }

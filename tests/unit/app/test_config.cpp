@@ -116,15 +116,16 @@ TEST(Config, AutoMajorantIsPairwiseWhereItIsExactAndFaster) {
   EXPECT_EQ(chosen({beyond}), MajorantKind::kGlobal);
   EXPECT_EQ(chosen({"dsmc.kernel.lambda=0"}), MajorantKind::kGlobal);
   EXPECT_EQ(chosen({"dsmc.beta=1"}), MajorantKind::kGlobal);  // kicks between the events
-  EXPECT_EQ(chosen({"dsmc.beta=1", "dsmc.scheme=strang", "dsmc.steps=32"}), MajorantKind::kPairwise);
+  EXPECT_EQ(chosen({"dsmc.beta=1", "dsmc.scheme=strang", "dsmc.steps=32"}),
+            MajorantKind::kPairwise);
   EXPECT_EQ(chosen({"dsmc.majorant=global"}), MajorantKind::kGlobal);
 }
 
 TEST(Config, IntegerKeysTakeExactlyWholeDecimalsAndNothingElse) {
   // Whole numbers written as decimals are integers, dsmc.dimension included (it used to be read
   // as text, so '2' and !!str 2 passed while every other integer key refused them).
-  const Config c = parse_config(kExample3, "t", {"dsmc.particles=1e3", "dsmc.dimension=2.0",
-                                                 "seed=4.2e1", "ensembles=+3"});
+  const Config c = parse_config(
+      kExample3, "t", {"dsmc.particles=1e3", "dsmc.dimension=2.0", "seed=4.2e1", "ensembles=+3"});
   EXPECT_EQ(c.dsmc.particles, 1000u);
   EXPECT_EQ(c.dsmc.dimension, 2);
   EXPECT_EQ(c.seed, 42u);

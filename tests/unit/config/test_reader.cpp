@@ -70,10 +70,10 @@ TEST(YamlReader, AliasBombsAreRefusedQuicklyWhereverTheyAre) {
     std::vector<std::string> sets;
   };
   const Case cases[] = {
-      {kBase + "bomb:\n" + bomb(9, "  "), {}},                                // an unknown key
-      {kBase + "  histogram:\n" + bomb(9, "    "), {}},                       // a section read
-      {kBase + "dsmc2:\n" + bomb(12, "  "), {}},                              // 10^12 nodes
-      {kBase, {"bomb=" + flow_bomb(9)}},                                      // --set
+      {kBase + "bomb:\n" + bomb(9, "  "), {}},           // an unknown key
+      {kBase + "  histogram:\n" + bomb(9, "    "), {}},  // a section read
+      {kBase + "dsmc2:\n" + bomb(12, "  "), {}},         // 10^12 nodes
+      {kBase, {"bomb=" + flow_bomb(9)}},                 // --set
       {kBase, {"dsmc.histogram=" + flow_bomb(9)}},
   };
   for (const Case& c : cases) {
@@ -90,8 +90,8 @@ TEST(YamlReader, AliasBombsAreRefusedQuicklyByTheCommandLine) {
   const std::string file = dir.write("bomb.yaml", kBase + "bomb:\n" + bomb(9, "  "));
   const std::string base = dir.write("base.yaml", kBase);
   for (const std::string& args :
-       {"validate " + file, "run " + file + " -q -o " + dir.file("out.h5"),
-        "estimate " + file, "validate " + base + " --set 'bomb=" + flow_bomb(9) + "'",
+       {"validate " + file, "run " + file + " -q -o " + dir.file("out.h5"), "estimate " + file,
+        "validate " + base + " --set 'bomb=" + flow_bomb(9) + "'",
         "run " + base + " -q -o " + dir.file("out.h5") + " --set 'bomb=" + flow_bomb(9) + "'"}) {
     const auto t0 = std::chrono::steady_clock::now();
     const test::CommandResult r = test::run_granboltz(args);
@@ -105,9 +105,10 @@ TEST(YamlReader, AliasBombsAreRefusedQuicklyByTheCommandLine) {
 
 TEST(YamlReader, AliasesThatAConfigMightUseAreFine) {
   // One value anchored and used for several keys.
-  const std::string text = "model: dsmc\nseed: 1\nensembles: &n 4\ndsmc:\n  particles: 64\n"
-                     "  alpha: &a 0.5\n  beta: *a\n  kernel: {lambda: 0, C: *a}\n"
-                     "  t_end: *a\n  observe_every: 0.25\n";
+  const std::string text =
+      "model: dsmc\nseed: 1\nensembles: &n 4\ndsmc:\n  particles: 64\n"
+      "  alpha: &a 0.5\n  beta: *a\n  kernel: {lambda: 0, C: *a}\n"
+      "  t_end: *a\n  observe_every: 0.25\n";
   const Config d = parse_config(text, "t");
   EXPECT_EQ(d.dsmc.beta, 0.5);
   EXPECT_EQ(d.dsmc.kernel.C, 0.5);
@@ -127,8 +128,9 @@ TEST(YamlReader, NodesAndDepthAreBoundedAsWrittenAndThroughAliases) {
   EXPECT_NE(e.find("test.yaml: more than 100000 YAML nodes"), std::string::npos) << e;
 
   const std::string deep = kBase + "deep: " + std::string(65, '[') + std::string(65, ']') + "\n";
-  EXPECT_NE(test::config_error(deep).find("test.yaml: nested more than 64 levels deep (at line 11)"),
-            std::string::npos);
+  EXPECT_NE(
+      test::config_error(deep).find("test.yaml: nested more than 64 levels deep (at line 11)"),
+      std::string::npos);
   const std::string ok = kBase + "deep: " + std::string(63, '[') + std::string(63, ']') + "\n";
   EXPECT_EQ(test::config_error(ok).rfind("deep: unknown key", 0), 0u);
   // Each level alone is shallow; through the alias the whole is 80 levels deep.
@@ -184,10 +186,10 @@ TEST(YamlReader, QuotedAndTaggedNumbersAreStrings) {
   // Booleans are no numbers either.
   EXPECT_EQ(test::config_error(kBase, {"dsmc.beta=true"}), "dsmc.beta = true: not a number");
   // The core schema's number tags are numbers, and strings may be quoted or tagged.
-  const Config c = parse_config(kBase, "t",
-                                {"dsmc.alpha=!!float 0.25", "dsmc.particles=!!int 100",
-                                 "dsmc.scheme='strang'", "dsmc.steps=2", "model=!!str dsmc",
-                                 "dsmc.majorant=\"global\""});
+  const Config c =
+      parse_config(kBase, "t",
+                   {"dsmc.alpha=!!float 0.25", "dsmc.particles=!!int 100", "dsmc.scheme='strang'",
+                    "dsmc.steps=2", "model=!!str dsmc", "dsmc.majorant=\"global\""});
   EXPECT_EQ(c.dsmc.alpha, 0.25);
   EXPECT_EQ(c.dsmc.particles, 100u);
   EXPECT_EQ(c.dsmc.scheme, Scheme::kStrang);
@@ -204,8 +206,7 @@ TEST(YamlReader, AnExplicitNullIsAnErrorAndOnlyAnAbsentKeyTakesItsDefault) {
             "ensembles = null: must be an integer, not null (leave the key out for its default)");
   EXPECT_EQ(test::config_error(kBase, {"ensembles=null"}),
             test::config_error(kBase, {"ensembles=~"}));
-  EXPECT_EQ(test::config_error(kBase, {"seed=~"}),
-            "seed = null: must be an integer, not null");
+  EXPECT_EQ(test::config_error(kBase, {"seed=~"}), "seed = null: must be an integer, not null");
   EXPECT_EQ(test::config_error(kBase, {"dsmc.alpha=~"}),
             "dsmc.alpha = null: must be a number, not null");
   EXPECT_EQ(test::config_error(kBase, {"dsmc.gamma=~"}),
@@ -249,7 +250,8 @@ TEST(YamlReader, ErrorsAreOneShortLineWhateverTheValueOrKeyHolds) {
            test::config_error(kBase, {"a\nb=1"}),
            test::config_error(kBase, {"a\nb"}),
        }) {
-    expect_one_short_line(e, 420);  // the longest: a cut key (80 characters) and the 27 dsmc keys (402)
+    expect_one_short_line(
+        e, 420);  // the longest: a cut key (80 characters) and the 27 dsmc keys (402)
   }
   EXPECT_EQ(test::config_error(kBase, {"dsmc.scheme=" + big}),
             "dsmc.scheme = " + std::string(80, 'x') +

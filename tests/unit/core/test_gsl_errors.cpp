@@ -69,8 +69,8 @@ void expect_clean(const std::string& sets) {
   test::TempDir dir;
   const std::string out = dir.file("out.h5");
   const std::string cmd = "timeout 60 " + std::string(GRANBOLTZ_BINARY) + " run " +
-                          GRANBOLTZ_SOURCE_DIR + "/tests/bad_inputs/base/needle.yaml -q -o " +
-                          out + " --threads 2 " + sets + " 2>&1";
+                          GRANBOLTZ_SOURCE_DIR + "/tests/bad_inputs/base/needle.yaml -q -o " + out +
+                          " --threads 2 " + sets + " 2>&1";
   FILE* pipe = ::popen(cmd.c_str(), "r");
   ASSERT_NE(pipe, nullptr);
   std::string text;
@@ -105,22 +105,24 @@ TEST(GslErrors, TinyNeedlesRunByInversion) {
   // Many turns per collision: these failed (abort) before; now they run.
   for (const char* value : {"needle.length=1e-12", "needle.density=1e-12"}) {
     test::TempDir dir;
-    const auto r = test::run_granboltz("run " + std::string(GRANBOLTZ_SOURCE_DIR) +
-                                       "/tests/bad_inputs/base/needle.yaml -q -o " +
-                                       dir.file("out.h5") + " --set needle.waiting_time=inversion" +
-                                       " --set " + value);
+    const auto r = test::run_granboltz(
+        "run " + std::string(GRANBOLTZ_SOURCE_DIR) + "/tests/bad_inputs/base/needle.yaml -q -o " +
+        dir.file("out.h5") + " --set needle.waiting_time=inversion" + " --set " + value);
     EXPECT_EQ(r.exit_code, 0) << value << ": " << r.output;
   }
 }
 
 TEST(GslErrors, NeedleScalesOutsideDoublePrecisionAreRefused) {
-  const std::string base = "model: needle\nseed: 1\nensembles: 1\nneedle: {mass: 0.5, alpha: 0.5, collisions: 10}\n";
+  const std::string base =
+      "model: needle\nseed: 1\nensembles: 1\nneedle: {mass: 0.5, alpha: 0.5, collisions: 10}\n";
   EXPECT_EQ(test::config_error(base, {"needle.mass=5e-324"}),
             "needle.mass = 5e-324: must be >= 1e-300 (1/M and the speeds overflow)");
-  EXPECT_NE(test::config_error(base, {"needle.length=1e160"}).find("needle.length = 1e+160: must give"),
-            std::string::npos);
-  EXPECT_NE(test::config_error(base, {"needle.density=1e308"}).find("needle.density = 1e+308: must give"),
-            std::string::npos);
+  EXPECT_NE(
+      test::config_error(base, {"needle.length=1e160"}).find("needle.length = 1e+160: must give"),
+      std::string::npos);
+  EXPECT_NE(
+      test::config_error(base, {"needle.density=1e308"}).find("needle.density = 1e+308: must give"),
+      std::string::npos);
   EXPECT_EQ(test::config_error(base, {"needle.length=1e-12"}), "");
 }
 

@@ -118,8 +118,8 @@ TEST(Observables, ComponentHistogramBinsAndOverflow) {
   EXPECT_EQ(component_bin(std::nan(""), spec), 4u);
   Particles p(2);
   const Vec3 V{1.0, 5.0, 5.0};
-  p[0].v = {0.5, 0, 0};   // x - V_x = -0.5: bin 1
-  p[1].v = {3.5, 0, 0};   // 2.5: overflow
+  p[0].v = {0.5, 0, 0};  // x - V_x = -0.5: bin 1
+  p[1].v = {3.5, 0, 0};  // 2.5: overflow
   std::uint64_t counts[5] = {0, 0, 0, 0, 0};
   component_histogram(p, spec, V, counts);
   EXPECT_EQ(std::vector<std::uint64_t>(counts, counts + 5),

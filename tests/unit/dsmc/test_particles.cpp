@@ -3,14 +3,13 @@
 // particle array per thread, not one per finished ensemble (glibc's malloc kept them: 19 GB for
 // RW05's 10^4 ensembles of 65 536 particles).
 #include <gtest/gtest.h>
-
 #include <unistd.h>
 
 #include <cstdint>
 #include <fstream>
 #include <string>
-#include <utility>
 #include <thread>
+#include <utility>
 
 #include "granboltz/app/config.hpp"
 #include "granboltz/dsmc/ensemble.hpp"
@@ -57,12 +56,12 @@ TEST(ParticleAllocator, ManyEnsemblesInARowHoldOneParticleArray) {
   // the resident memory may grow by a few arrays (the spares) and some slack, not by one array
   // per ensemble as it did. 10^5 particles (3.2 MB) and 4096 (128 KiB, the RW05 tables' size).
   for (const auto& [n, count] : {std::pair<int, int>{100000, 60}, {4096, 1000}}) {
-    const Config c = parse_config(
-        "{}", "test",
-        {"model=dsmc", "seed=3", "ensembles=" + std::to_string(count),
-         "dsmc.particles=" + std::to_string(n), "dsmc.kernel.lambda=1", "dsmc.alpha=0.5",
-         "dsmc.beta=1", "dsmc.gamma=1", "dsmc.kernel.C=0.1", "dsmc.t_end=0.001",
-         "dsmc.observe_every=0.001"});
+    const Config c =
+        parse_config("{}", "test",
+                     {"model=dsmc", "seed=3", "ensembles=" + std::to_string(count),
+                      "dsmc.particles=" + std::to_string(n), "dsmc.kernel.lambda=1",
+                      "dsmc.alpha=0.5", "dsmc.beta=1", "dsmc.gamma=1", "dsmc.kernel.C=0.1",
+                      "dsmc.t_end=0.001", "dsmc.observe_every=0.001"});
     const std::uint64_t array = c.dsmc.particles * sizeof(Particle);
     // Two worker threads side by side, as in a run on 2 threads, each with its own glibc arena.
     { DsmcEnsemble warm(c.dsmc, c.seed, 0); }

@@ -33,7 +33,8 @@ TEST(SafePoints, CheckpointSeesEveryEnsembleParked) {
   SafePoints<int> safe;
   std::vector<std::map<std::uint64_t, const int*>> seen;
   const DriverOptions opts = safe.options(
-      checkpointing(), [&](const std::map<std::uint64_t, const int*>& parked) { seen.push_back(parked); });
+      checkpointing(),
+      [&](const std::map<std::uint64_t, const int*>& parked) { seen.push_back(parked); });
   ASSERT_TRUE(opts.tick && opts.on_cancel);
   const int a = 1, b = 2;
   std::atomic<bool> stop{false};
@@ -84,8 +85,8 @@ TEST(SafePoints, CancelStopsEnsemblesAtTheirSafePoint) {
 
 TEST(SafePoints, AFailedCheckpointResumesTheEnsembles) {
   SafePoints<int> safe;
-  const DriverOptions opts = safe.options(
-      checkpointing(), [](const auto&) { throw std::runtime_error("disk full"); });
+  const DriverOptions opts =
+      safe.options(checkpointing(), [](const auto&) { throw std::runtime_error("disk full"); });
   const int a = 1;
   std::atomic<bool> stop{false};
   std::atomic<int> rounds{0};

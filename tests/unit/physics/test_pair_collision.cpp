@@ -142,8 +142,9 @@ TEST(PairCollision, PairTermsFollowFromTheMomentsOfInertia) {
   EXPECT_NEAR(eq.spin_a, 1.0 / (0.4 * 1.5), 1e-14);
   EXPECT_NEAR(eq.spin_b, 1.0 / (0.4 * 1.5), 1e-14);
   // kappa <= 0 on either side: smooth.
-  for (const PairTerms s : {pair_terms(1, 2, 1, 1, 0.5, 0.0, 0.4), pair_terms(1, 2, 1, 1, 0.5, 0.4, -1),
-                            pair_terms(1, 2, 1, 1, -1.0, 0.4, 0.4)}) {
+  for (const PairTerms s :
+       {pair_terms(1, 2, 1, 1, 0.5, 0.0, 0.4), pair_terms(1, 2, 1, 1, 0.5, 0.4, -1),
+        pair_terms(1, 2, 1, 1, -1.0, 0.4, 0.4)}) {
     EXPECT_EQ(s.tangential, 0.0);
   }
 }

@@ -67,7 +67,8 @@ TEST(IndexStream, SelectDrawsIndicesInProportionToTheirWeights) {
   IndexStream s(9, 1, Consumer::kCandidates, static_cast<std::uint32_t>(w.size()));
   const double n = 600000;
   std::vector<double> counts(w.size(), 0.0), p(w.size());
-  for (int k = 0; k < static_cast<int>(n); ++k) counts[s.select(w.data(), w.data(), 0x1p-32 * 3.5)] += 1;
+  for (int k = 0; k < static_cast<int>(n); ++k)
+    counts[s.select(w.data(), w.data(), 0x1p-32 * 3.5)] += 1;
   EXPECT_EQ(counts[0], 0.0);
   for (std::size_t k = 1; k < w.size(); ++k) p[k] = w[k] / 10.0;
   counts.erase(counts.begin());

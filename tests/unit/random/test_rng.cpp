@@ -51,8 +51,11 @@ TEST(RandomStreams, GoldenValuesPinTheStreamDerivation) {
 TEST(RandomStreams, EngineReproducesTheReferenceXoshiro256PlusPlusOutput) {
   // First outputs of the reference implementation (Blackman & Vigna) from the state {1, 2, 3, 4}.
   Engine e({1, 2, 3, 4});
-  const std::uint64_t expected[] = {41943041ULL, 58720359ULL, 3588806011781223ULL,
-                                    3591011842654386ULL, 9228616714210784205ULL,
+  const std::uint64_t expected[] = {41943041ULL,
+                                    58720359ULL,
+                                    3588806011781223ULL,
+                                    3591011842654386ULL,
+                                    9228616714210784205ULL,
                                     9973669472204895162ULL};
   for (std::uint64_t x : expected) EXPECT_EQ(e(), x);
   EXPECT_EQ(e.draws(), 6u);

@@ -174,8 +174,10 @@ void check_wedges(const detail::ZigguratTables<N>& z, double (*f)(double), const
       const double y = z.f[i] + uniform01(eng) * (z.f[i + 1] - z.f[i]);
       const int quick = z.wedge(i, ax, y);
       ++spread;
-      if (quick == 0) ++undecided;
-      else ASSERT_EQ(quick > 0, y < f(ax)) << name << " layer " << i << " x " << ax << " y " << y;
+      if (quick == 0)
+        ++undecided;
+      else
+        ASSERT_EQ(quick > 0, y < f(ax)) << name << " layer " << i << " x " << ax << " y " << y;
       for (const double d : {1e-15, 1e-12, 1e-9, 1e-6}) {
         for (const double yy : {f(ax) * (1 - d), f(ax) * (1 + d)}) {
           const int q = z.wedge(i, ax, yy);

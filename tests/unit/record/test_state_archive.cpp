@@ -33,9 +33,9 @@ granboltz::Config config_of(const H5Reader& in) {
 
 // The datasets of `group` that the engine owns (the run driver adds the rows observed so far).
 std::set<std::string> engine_datasets(const H5Reader& in, const std::string& group) {
-  static const std::set<std::string> driver = {"observations", "moment_observations", "histogram",
-                                               "histogram_weight", "histogram_component",
-                                               "histogram_component_weight"};
+  static const std::set<std::string> driver = {"observations",        "moment_observations",
+                                               "histogram",           "histogram_weight",
+                                               "histogram_component", "histogram_component_weight"};
   std::set<std::string> out;
   for (const auto& name : in.datasets()) {
     if (name.rfind(group + "/", 0) != 0) continue;
@@ -103,16 +103,19 @@ const std::string g = "/in_progress/0";
 
 const std::vector<Edit> kEdits = {
     // One species, pairwise majorant, Gaussian thermostat.
-    {"plain", "time beyond t_end", [](const std::string& f) { edit_real(f, g + "/scalars", 0, 1e300); },
+    {"plain", "time beyond t_end",
+     [](const std::string& f) { edit_real(f, g + "/scalars", 0, 1e300); },
      "/in_progress/0/scalars[0] (t) = 1e+300, not in [0, t_end = 1500]"},
-    {"plain", "time NaN", [](const std::string& f) { edit_real(f, g + "/scalars", 0, std::nan("")); },
+    {"plain", "time NaN",
+     [](const std::string& f) { edit_real(f, g + "/scalars", 0, std::nan("")); },
      "/in_progress/0/scalars[0] (t) = nan, not in [0, t_end = 1500]"},
     {"plain", "negative u_max", [](const std::string& f) { edit_real(f, g + "/scalars", 4, -1.0); },
      "/in_progress/0/scalars[4] (u_max) = -1, not >= 0"},
     {"plain", "bulk velocity infinite",
      [](const std::string& f) { edit_real(f, g + "/scalars", 2, HUGE_VAL); },
      "/in_progress/0/scalars[2] (V_y) = inf, not finite"},
-    {"plain", "weights' sum zero", [](const std::string& f) { edit_real(f, g + "/scalars", 5, 0.0); },
+    {"plain", "weights' sum zero",
+     [](const std::string& f) { edit_real(f, g + "/scalars", 5, 0.0); },
      "/in_progress/0/scalars[5] (w_sum) = 0, not > 0"},
     {"plain", "pair index out of range",
      [](const std::string& f) { edit_word(f, g + "/ring_index", 3, 200); },
@@ -126,7 +129,8 @@ const std::vector<Edit> kEdits = {
     {"plain", "a particle's time beyond t",
      [](const std::string& f) { edit_real(f, g + "/particles", 4 * 7 + 3, 12345678.5); },
      "/in_progress/0/particles[7, 3] = 12345678.5, not in [0, t = "},
-    {"plain", "a negative pair weight", [](const std::string& f) { edit_real(f, g + "/weights", 9, -0.5); },
+    {"plain", "a negative pair weight",
+     [](const std::string& f) { edit_real(f, g + "/weights", 9, -0.5); },
      "/in_progress/0/weights[9] = -0.5, not in [0, w_max = "},
     {"plain", "index stream position beyond its block",
      [](const std::string& f) { edit_word(f, g + "/candidates/position", 0, 65); },
@@ -139,37 +143,47 @@ const std::vector<Edit> kEdits = {
        for (std::size_t k = 0; k < 4; ++k) edit_word(f, g + "/candidates/lane_2", k, 0);
      },
      "/in_progress/0/candidates/lane_2: a random stream in the all-zero state"},
-    {"plain", "thermostat energy zero", [](const std::string& f) { edit_real(f, g + "/thermostat", 0, 0.0); },
+    {"plain", "thermostat energy zero",
+     [](const std::string& f) { edit_real(f, g + "/thermostat", 0, 0.0); },
      "/in_progress/0/thermostat[0] (energy) = 0, not > 0"},
     {"plain", "a dataset removed", [](const std::string& f) { remove_dataset(f, g + "/counters"); },
      "/in_progress/0/counters: missing"},
     // One species under shear: the majorant's window and centre.
-    {"shear", "window index 0", [](const std::string& f) { edit_word(f, g + "/flight_window", 0, 0); },
+    {"shear", "window index 0",
+     [](const std::string& f) { edit_word(f, g + "/flight_window", 0, 0); },
      "/in_progress/0/flight_window[0] (next window) = 0, not >= 1"},
     {"shear", "a window that does not hold the time",
      [](const std::string& f) { edit_word(f, g + "/flight_window", 0, 1); },
      "/in_progress/0/flight_window: a shear window that does not hold the time"},
-    {"shear", "majorant centre off 0", [](const std::string& f) { edit_real(f, g + "/scalars", 1, 0.25); },
+    {"shear", "majorant centre off 0",
+     [](const std::string& f) { edit_real(f, g + "/scalars", 1, 0.25); },
      "/in_progress/0/scalars[1] (V_x) = 0.25, not 0 under drag or shear"},
     // The general gas: species, bounds, spins.
     {"gas", "a negative bound", [](const std::string& f) { edit_real(f, g + "/bounds", 1, -1.0); },
      "/in_progress/0/bounds[1] = -1, not >= 0"},
-    {"gas", "a bound below a speed", [](const std::string& f) { edit_real(f, g + "/bounds", 0, 1e-3); },
+    {"gas", "a bound below a speed",
+     [](const std::string& f) { edit_real(f, g + "/bounds", 0, 1e-3); },
      "/in_progress/0/particles: a velocity beyond its species' bound (bounds)"},
-    {"gas", "a spin not finite", [](const std::string& f) { edit_real(f, g + "/spins", 3 * 4 + 2, HUGE_VAL); },
+    {"gas", "a spin not finite",
+     [](const std::string& f) { edit_real(f, g + "/spins", 3 * 4 + 2, HUGE_VAL); },
      "/in_progress/0/spins[4, 2] = inf, not finite"},
-    {"gas", "a velocity NaN", [](const std::string& f) { edit_real(f, g + "/particles", 4 * 2 + 1, std::nan("")); },
+    {"gas", "a velocity NaN",
+     [](const std::string& f) { edit_real(f, g + "/particles", 4 * 2 + 1, std::nan("")); },
      "/in_progress/0/particles[2, 1] = nan, not finite"},
     {"gas", "time negative", [](const std::string& f) { edit_real(f, g + "/scalars", 0, -1.0); },
      "/in_progress/0/scalars[0] (t) = -1, not in [0, t_end = 1000]"},
-    {"gas", "a species count removed", [](const std::string& f) { remove_dataset(f, g + "/species_collisions"); },
+    {"gas", "a species count removed",
+     [](const std::string& f) { remove_dataset(f, g + "/species_collisions"); },
      "/in_progress/0/species_collisions: missing"},
     // Weighted particles.
-    {"swpm", "a weight zero", [](const std::string& f) { edit_real(f, g + "/weighted_particles", 5 * 3 + 4, 0.0); },
+    {"swpm", "a weight zero",
+     [](const std::string& f) { edit_real(f, g + "/weighted_particles", 5 * 3 + 4, 0.0); },
      "/in_progress/0/weighted_particles[3, 4] = 0, not > 0"},
-    {"swpm", "split scale negative", [](const std::string& f) { edit_real(f, g + "/scalars", 5, -2.0); },
+    {"swpm", "split scale negative",
+     [](const std::string& f) { edit_real(f, g + "/scalars", 5, -2.0); },
      "/in_progress/0/scalars[5] (split scale) = -2, not >= 0"},
-    {"swpm", "cooling mark after the time", [](const std::string& f) { edit_real(f, g + "/thermostat", 4, 12345678.5); },
+    {"swpm", "cooling mark after the time",
+     [](const std::string& f) { edit_real(f, g + "/thermostat", 4, 12345678.5); },
      "/in_progress/0/thermostat[4] (mark time) = 12345678.5, not in [0, t = "},
     {"swpm", "reduce stream all zero",
      [](const std::string& f) {

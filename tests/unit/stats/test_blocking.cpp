@@ -20,7 +20,8 @@ TEST(StatsBlocking, SmallCasesByHand) {
   // Rows beyond the last full block are left out: blocks (1, 3) of 5 rows, B / R = 2/5.
   const std::vector<double> y{1, 1, 3, 3, 100};
   EXPECT_DOUBLE_EQ(blocked_variance(y.data(), 5, 2), 2.0 * 2.0 / 5.0);
-  for (auto [R, L] : std::vector<std::pair<int, int>>{{0, 0}, {1, 0}, {2, 1}, {3, 1}, {4, 2}, {7, 2}, {8, 3}, {1024, 10}})
+  for (auto [R, L] : std::vector<std::pair<int, int>>{
+           {0, 0}, {1, 0}, {2, 1}, {3, 1}, {4, 2}, {7, 2}, {8, 3}, {1024, 10}})
     EXPECT_EQ(block_levels(R), static_cast<std::uint64_t>(L)) << R;
 }
 
@@ -100,8 +101,8 @@ TEST(StatsBlocking, Ar1TauIntWithinItsInterval) {
   EXPECT_STREQ(b.estimator, "blocking");
   const double B = static_cast<double>(b.block_rows);
   EXPECT_GE(B, 16);  // the criterion passes tau_int ~ 1.5 by a margin
-  const double expected = 0.5 * ((1 + phi) / (1 - phi) - 2 * phi * (1 - std::pow(phi, B)) /
-                                                              (B * (1 - phi) * (1 - phi)));
+  const double expected = 0.5 * ((1 + phi) / (1 - phi) -
+                                 2 * phi * (1 - std::pow(phi, B)) / (B * (1 - phi) * (1 - phi)));
   const double rel = std::sqrt(2.0 / (N * (R / b.block_rows) - N));
   // all.variance is itself an estimate, of relative error ~ sqrt(2 * 2 tau / S): negligible here.
   EXPECT_NEAR(b.tau_int, expected, 4 * rel * expected) << "B = " << B;
@@ -127,8 +128,8 @@ TEST(StatsBlocking, Ar1EnsemblesEstimatorAgrees) {
   EXPECT_STREQ(e.estimator, "ensembles");
   EXPECT_EQ(e.dof, N - 1);
   EXPECT_DOUBLE_EQ(e.sigma, std::sqrt(variance_of_mean(s.averages, N)));
-  const double expected = 0.5 * ((1 + phi) / (1 - phi) - 2 * phi * (1 - std::pow(phi, R)) /
-                                                              (R * (1 - phi) * (1 - phi)));
+  const double expected = 0.5 * ((1 + phi) / (1 - phi) -
+                                 2 * phi * (1 - std::pow(phi, R)) / (R * (1 - phi) * (1 - phi)));
   EXPECT_NEAR(e.tau_int, expected, 4 * std::sqrt(2.0 / (N - 1)) * expected);
   EXPECT_EQ(e.ci, kLambdaP * e.sigma);  // 63 degrees of freedom: lambda_p
 }

@@ -150,11 +150,26 @@ TEST(Correlator, RefusesABadResolutionSampleOrStateNamingIt) {
     }
     return std::string("no error");
   };
-  EXPECT_NE(message([] { MultipleTauCorrelator(1, {7, 2, 3}); }).find("points = 7"), std::string::npos);
-  EXPECT_NE(message([] { MultipleTauCorrelator(1, {8, 3, 3}); }).find("averaging = 3"), std::string::npos);
-  EXPECT_NE(message([] { MultipleTauCorrelator(1, {8, 2, 0}); }).find("levels = 0"), std::string::npos);
-  EXPECT_NE(message([] { MultipleTauCorrelator(1, {8, 2, 70}); }).find("levels = 70"), std::string::npos);
-  EXPECT_NE(message([] { MultipleTauCorrelator(0, {8, 2, 3}); }).find("channel"), std::string::npos);
+  EXPECT_NE(message([] {
+              MultipleTauCorrelator(1, {7, 2, 3});
+            }).find("points = 7"),
+            std::string::npos);
+  EXPECT_NE(message([] {
+              MultipleTauCorrelator(1, {8, 3, 3});
+            }).find("averaging = 3"),
+            std::string::npos);
+  EXPECT_NE(message([] {
+              MultipleTauCorrelator(1, {8, 2, 0});
+            }).find("levels = 0"),
+            std::string::npos);
+  EXPECT_NE(message([] {
+              MultipleTauCorrelator(1, {8, 2, 70});
+            }).find("levels = 70"),
+            std::string::npos);
+  EXPECT_NE(message([] {
+              MultipleTauCorrelator(0, {8, 2, 3});
+            }).find("channel"),
+            std::string::npos);
   EXPECT_NE(message([] {
               MultipleTauCorrelator c(3, {8, 2, 3});
               c.add(std::vector<double>(2));
@@ -164,16 +179,19 @@ TEST(Correlator, RefusesABadResolutionSampleOrStateNamingIt) {
   const auto good = feed(random_series(50, 2, 3), r).state();
   auto bad = good;
   bad.fill[1] = 9;
-  EXPECT_NE(message([&] { MultipleTauCorrelator(2, r, bad); }).find("filled beyond"), std::string::npos);
+  EXPECT_NE(message([&] { MultipleTauCorrelator(2, r, bad); }).find("filled beyond"),
+            std::string::npos);
   bad = good;
   bad.in_block[0] = 2;
   EXPECT_NE(message([&] { MultipleTauCorrelator(2, r, bad); }).find("block"), std::string::npos);
   bad = good;
   bad.shift[4] = std::nan("");
-  EXPECT_NE(message([&] { MultipleTauCorrelator(2, r, bad); }).find("non-finite"), std::string::npos);
+  EXPECT_NE(message([&] { MultipleTauCorrelator(2, r, bad); }).find("non-finite"),
+            std::string::npos);
   bad = good;
   bad.sum.pop_back();
-  EXPECT_NE(message([&] { MultipleTauCorrelator(2, r, bad); }).find("wrong size"), std::string::npos);
+  EXPECT_NE(message([&] { MultipleTauCorrelator(2, r, bad); }).find("wrong size"),
+            std::string::npos);
   EXPECT_NO_THROW(MultipleTauCorrelator(2, r, good));
 }
 

@@ -1,10 +1,9 @@
 // The Student factor and the variance of a mean (stats/statistics.hpp) against GSL's quantiles and
 // closed forms.
+#include <gsl/gsl_cdf.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
-
-#include <gsl/gsl_cdf.h>
 
 #include "granboltz/stats/statistics.hpp"
 
@@ -14,11 +13,13 @@ using namespace granboltz;
 TEST(StatsConfidence, StudentFactorIsGslsQuantileBelowThirtyDegrees) {
   const double P = gsl_cdf_ugaussian_P(kLambdaP);
   for (int dof = 1; dof < 30; ++dof)
-    EXPECT_NEAR(confidence_factor(dof), gsl_cdf_tdist_Pinv(P, dof), 1e-9 * gsl_cdf_tdist_Pinv(P, dof))
+    EXPECT_NEAR(confidence_factor(dof), gsl_cdf_tdist_Pinv(P, dof),
+                1e-9 * gsl_cdf_tdist_Pinv(P, dof))
         << dof;
   // Closed forms: nu = 1 (Cauchy) tan(pi (P - 1/2)); nu = 2 (2P - 1) / sqrt(2 P (1 - P)).
   EXPECT_NEAR(confidence_factor(1), std::tan(M_PI * (P - 0.5)), 1e-9 * confidence_factor(1));
-  EXPECT_NEAR(confidence_factor(2), (2 * P - 1) / std::sqrt(2 * P * (1 - P)), 1e-9 * confidence_factor(2));
+  EXPECT_NEAR(confidence_factor(2), (2 * P - 1) / std::sqrt(2 * P * (1 - P)),
+              1e-9 * confidence_factor(2));
   // Fractional degrees of freedom (blocking: N (R/B - 1)) are allowed.
   EXPECT_NEAR(confidence_factor(2.5), gsl_cdf_tdist_Pinv(P, 2.5), 1e-9 * confidence_factor(2.5));
 }
@@ -30,8 +31,8 @@ TEST(StatsConfidence, StudentFactorFallsToLambdaP) {
     EXPECT_GT(confidence_factor(dof), kLambdaP);
     last = confidence_factor(dof);
   }
-  for (double dof : {30.0, 1e6, static_cast<double>(INFINITY), 0.0, 0.5, -1.0,
-                     static_cast<double>(NAN)})
+  for (double dof :
+       {30.0, 1e6, static_cast<double>(INFINITY), 0.0, 0.5, -1.0, static_cast<double>(NAN)})
     EXPECT_EQ(confidence_factor(dof), kLambdaP) << dof;
 }
 

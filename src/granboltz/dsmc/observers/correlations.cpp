@@ -29,8 +29,8 @@ CorrelationsObserver::CorrelationsObserver(const DsmcConfig& d) : d_(d) {
   }
   if (d.correlations.stress.on) {
     channels_.push_back({kStress, 1, 0, pairs, "/correlations/stress", "correlation_stress"});
-    channels_.push_back({kNormalStress, 1, 0, pairs, "/correlations/normal_stress",
-                         "correlation_normal_stress"});
+    channels_.push_back(
+        {kNormalStress, 1, 0, pairs, "/correlations/normal_stress", "correlation_normal_stress"});
   }
   if (d.correlations.heat_flux.on)
     channels_.push_back({kHeatFlux, 2, 0, dim, "/correlations/heat_flux", "correlation_heat_flux"});
@@ -186,8 +186,8 @@ ObserverRows CorrelationsObserver::load(const H5Reader& in, const std::string& g
   for (std::size_t j = 0; j < channels_.size(); ++j) {
     const std::string x = base + "/" + std::to_string(j);
     for (const char* part : {"/shift", "/block", "/fill", "/in_block", "/sum", "/count"})
-      if (!in.exists(x + part)) throw malformed(std::string("no ") + (part + 1) + " of correlator " +
-                                                std::to_string(j));
+      if (!in.exists(x + part))
+        throw malformed(std::string("no ") + (part + 1) + " of correlator " + std::to_string(j));
     MultipleTauCorrelator::State s;
     s.shift = in.read_double(x + "/shift");
     s.block = in.read_double(x + "/block");
@@ -253,10 +253,11 @@ void CorrelationsObserver::present(Presenter& out, const Record& record) const {
       }
     const MeanCi zero = record.moments(ch.key + "_lag0")[0].stats(N);
     const std::string what =
-        ch.signal == kVelocity     ? "the velocity autocorrelation of the tagged particles"
-        : ch.signal == kStress     ? "the autocorrelation of the shear stress sum m c_a c_b / sqrt(n)"
+        ch.signal == kVelocity ? "the velocity autocorrelation of the tagged particles"
+        : ch.signal == kStress ? "the autocorrelation of the shear stress sum m c_a c_b / sqrt(n)"
         : ch.signal == kNormalStress
-            ? "the autocorrelation of the normal-stress differences sum m (c_a^2 - c_b^2) / (2 sqrt(n))"
+            ? "the autocorrelation of the normal-stress differences sum m (c_a^2 - c_b^2) / (2 "
+              "sqrt(n))"
             : "the autocorrelation of the heat flux sum c (m |c|^2 / 2 - (d + 2) T / 2) / sqrt(n)";
     const Dims l1{L};
     out.write(ch.path + "/lag", lag, l1, "the lags (time) of " + what);

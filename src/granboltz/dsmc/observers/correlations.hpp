@@ -47,11 +47,11 @@ class CorrelationsObserver final : public Observer {
   /// One correlator of every ensemble: its signal, the spec that schedules it, its output group.
   struct Channel {
     Signal signal;
-    int spec;              ///< 0 velocity, 1 stress, 2 heat flux: the schedule in rows.counts
-    std::size_t species;   ///< velocity: the species whose tagged particles it follows
-    std::uint64_t width;   ///< the correlator's channels
-    std::string path;      ///< /correlations/<name>[/<species>]
-    std::string key;       ///< its sums' name in the record
+    int spec;             ///< 0 velocity, 1 stress, 2 heat flux: the schedule in rows.counts
+    std::size_t species;  ///< velocity: the species whose tagged particles it follows
+    std::uint64_t width;  ///< the correlator's channels
+    std::string path;     ///< /correlations/<name>[/<species>]
+    std::string key;      ///< its sums' name in the record
   };
   const CorrelationSpec& spec(int k) const;
   double sample_time(int k, std::uint64_t index) const;

@@ -111,8 +111,10 @@ void HistogramObserver::present(Presenter& out, const Record& record) const {
             "(dsmc.histogram.component); the last bin holds |(v - V)_x| >= R"
       : d_.histogram.bulk
           ? "f_k = fraction of particles with r_k <= |v - V(t)| < r_{k+1}, r_k = k R/K, V(t) the "
-            "ensemble's bulk velocity (dsmc.histogram.center: bulk); the last shell holds |v - V| >= R"
-          : "f_k = fraction of particles with r_k <= |v| < r_{k+1}, r_k = k R/K (GRW05 eq. 37); the "
+            "ensemble's bulk velocity (dsmc.histogram.center: bulk); the last shell holds |v - V| "
+            ">= R"
+          : "f_k = fraction of particles with r_k <= |v| < r_{k+1}, r_k = k R/K (GRW05 eq. 37); "
+            "the "
             "last shell holds |v| >= R";
   const auto& counts = record.counts(name_);
   const auto& counts_sq = record.counts_sq(name_);
@@ -136,7 +138,8 @@ void HistogramObserver::present(Presenter& out, const Record& record) const {
   out.write(g + "/edges", edges, {K1}, "the K + 1 edges of the bins of " + g + "/mean");
   out.write(g + "/mean", mean, {rows, K1}, description + "; per row t_m, mean over the ensembles");
   out.write(g + "/ci", ci, {rows, K1}, "confidence half-width of " + g + "/mean");
-  out.write(g + "/counts", counts, {rows, K1}, "particles per bin and row, summed over the ensembles");
+  out.write(g + "/counts", counts, {rows, K1},
+            "particles per bin and row, summed over the ensembles");
   out.attr(g, "description", description);
   out.attr(g, "center", std::string(d_.histogram.bulk || kind_ == kComponent ? "bulk" : "origin"));
   if (!d_.steady) return;
@@ -149,7 +152,8 @@ void HistogramObserver::present(Presenter& out, const Record& record) const {
   }
   const std::string steady_text =
       "f_k averaged over the observation times t_m > steady_from in each ensemble; mean and "
-      "confidence half-width over the ensembles (edges: " + g + "/edges)";
+      "confidence half-width over the ensembles (edges: " +
+      g + "/edges)";
   out.write("/steady" + g + "/mean", smean, {smean.size()}, steady_text + ": mean");
   out.write("/steady" + g + "/ci", sci, {sci.size()}, steady_text + ": confidence half-width");
   out.attr("/steady" + g, "rows", steady_rows(d_));

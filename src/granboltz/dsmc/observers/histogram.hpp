@@ -27,7 +27,7 @@ class HistogramObserver final : public Observer {
  private:
   const DsmcConfig& d_;
   Kind kind_;
-  std::string name_;     // "histogram" or "histogram_component": accumulators and groups
+  std::string name_;  // "histogram" or "histogram_component": accumulators and groups
   std::uint64_t rows_, K1_;
 };
 

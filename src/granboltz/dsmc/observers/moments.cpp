@@ -32,7 +32,8 @@ void MomentsObserver::declare(Record& r, LayoutPhase phase) const {
       // average. Kept with steady_ci: independent too, whose outputs show the honest interval.
       const std::uint64_t K = kNumScalars + P;
       r.declare_moments("steady_ensemble", K);
-      if (const std::uint64_t L = steady_block_levels(d_)) r.declare_moments("steady_blocks", L * K);
+      if (const std::uint64_t L = steady_block_levels(d_))
+        r.declare_moments("steady_blocks", L * K);
     }
     // a2 and a3 from M2, M4, M6: their intervals by the delta method need the ensembles' cross
     // sums (only `sum` is used). Pairs (M2, M4), then with P >= 3 (M2, M6), (M4, M6).
@@ -54,7 +55,8 @@ void MomentsObserver::target(ObserverRows& w, std::uint64_t m, RowTargets& out) 
 }
 
 void MomentsObserver::observe(const ObservedRow& row, ObserverRows& w) const {
-  std::copy(row.whole.begin(), row.whole.end(), w.values.begin() + static_cast<std::ptrdiff_t>(row.m * set_.width));
+  std::copy(row.whole.begin(), row.whole.end(),
+            w.values.begin() + static_cast<std::ptrdiff_t>(row.m * set_.width));
 }
 
 void MomentsObserver::save(H5Writer& out, const std::string& g, const ObserverRows& w,
@@ -84,9 +86,9 @@ void MomentsObserver::present(Presenter& out, const Record& record) const {
     for (const auto& o : kObservables) write_steady_observable(out, d_, record, o, 0, set_);
     write_steady_speed_moments(out, d_, record, set_);
     out.attr("/steady", "estimator",
-             std::string(d_.steady_ci_independent ? "independent"
+             std::string(d_.steady_ci_independent                               ? "independent"
                          : N >= kSteadyMinEnsembles || !steady_block_levels(d_) ? "ensembles"
-                                                                                 : "blocking"));
+                                                                                : "blocking"));
     out.attr("/steady", "samples", record.total("steady_samples"));
     out.attr("/steady", "from", d_.steady_from);
   }

@@ -24,17 +24,17 @@ namespace granboltz {
 /// the slot existed keep their places between the run's own sums (dsmc_layout). A new observer
 /// declares in kAppended only, after everything else.
 enum class LayoutPhase {
-  kSeries,             ///< first: the whole gas's series
-  kRows,               ///< after the whole gas's series
-  kSteadySums,         ///< the whole gas's steady sums and speed moments, before the event columns
-  kSteadyAverages,     ///< after the event columns, before the whole gas's per-ensemble averages
-  kEnsembleAverages,   ///< the whole gas's per-ensemble averages and cross sums
-  kWeights,            ///< weighted particles, before the weighted engine's columns
-  kCoolingRate,        ///< after the weighted engine's columns
-  kComponent,          ///< after the weighted sums, before the general gas's row sets
-  kGeneralGas,         ///< the species' and the rotation's row sets, before per-species events
-  kRatios,             ///< after the per-species event columns
-  kAppended,           ///< after everything: every observer added since
+  kSeries,            ///< first: the whole gas's series
+  kRows,              ///< after the whole gas's series
+  kSteadySums,        ///< the whole gas's steady sums and speed moments, before the event columns
+  kSteadyAverages,    ///< after the event columns, before the whole gas's per-ensemble averages
+  kEnsembleAverages,  ///< the whole gas's per-ensemble averages and cross sums
+  kWeights,           ///< weighted particles, before the weighted engine's columns
+  kCoolingRate,       ///< after the weighted engine's columns
+  kComponent,         ///< after the weighted sums, before the general gas's row sets
+  kGeneralGas,        ///< the species' and the rotation's row sets, before per-species events
+  kRatios,            ///< after the per-species event columns
+  kAppended,          ///< after everything: every observer added since
 };
 
 /// One ensemble's rows of one observer: what it has observed so far (all rows allocated at the
@@ -98,8 +98,8 @@ class Observer {
   /// the file and the group when they do not fit the config).
   virtual void save(H5Writer& /*out*/, const std::string& /*group*/, const ObserverRows& /*rows*/,
                     std::uint64_t /*next*/) const {}
-  virtual ObserverRows load(const H5Reader& /*in*/, const std::string& /*group*/,
-                            bool /*weighted*/, std::uint64_t /*next*/) const {
+  virtual ObserverRows load(const H5Reader& /*in*/, const std::string& /*group*/, bool /*weighted*/,
+                            std::uint64_t /*next*/) const {
     return {};
   }
   /// Adds one finished ensemble to the record's exact sums (order-independent).

@@ -33,7 +33,8 @@ void Presenter::write_manifest() {
     observer.push_back(e.observer);
     meaning.push_back(e.meaning);
     rank.push_back(e.shape.size());
-    std::copy(e.shape.begin(), e.shape.end(), shape.begin() + static_cast<std::ptrdiff_t>(k * width));
+    std::copy(e.shape.begin(), e.shape.end(),
+              shape.begin() + static_cast<std::ptrdiff_t>(k * width));
   }
   out_.write("/manifest/path", path);
   out_.write("/manifest/observer", observer);

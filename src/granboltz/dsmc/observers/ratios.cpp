@@ -20,8 +20,8 @@ std::vector<RatioSet> ratio_sets(const DsmcConfig& d) {
   const std::size_t extra = extra_row_sets(d).size();
   // T_rot is the last extra row set, its only scalar; T the whole gas's (translational).
   if (d.roughness.on)
-    out.push_back({"theta_", "/theta", extra, 0, 0, kTemperature, "temperature_rotational",
-                   "temperature"});
+    out.push_back(
+        {"theta_", "/theta", extra, 0, 0, kTemperature, "temperature_rotational", "temperature"});
   if (d.species_written)
     for (std::size_t a = 0; a < d.species.size(); ++a)
       for (std::size_t b = a + 1; b < d.species.size(); ++b) {
@@ -103,20 +103,23 @@ void write_ratio(Presenter& out, const DsmcConfig& d, const Record& record,
   const std::string bias_text =
       "; bias: the ratio estimator's leading 1/N bias (second-order delta method), not "
       "subtracted from mean";
-  const std::string how = ": the ratio of the ensemble means; ci by the delta method with the "
-                          "variances and the covariance of the two over the ensembles" + bias_text;
+  const std::string how =
+      ": the ratio of the ensemble means; ci by the delta method with the "
+      "variances and the covariance of the two over the ensembles" +
+      bias_text;
   const std::string steady_how =
       ": the ratio of the steady averages; ci by the delta method with the variances and the "
-      "covariance of the ensembles' time averages over t_m > steady_from" + bias_text;
+      "covariance of the ensembles' time averages over t_m > steady_from" +
+      bias_text;
   const auto& sx = record.moments(X.prefix + "series");
   const auto& sy = record.moments(Y.prefix + "series");
   const auto& cross = record.moments(r.prefix + "cross");
   std::vector<double> mean(rows), ci(rows), bias(rows);
   for (std::uint64_t m = 0; m < rows; ++m) {
     const Moments2 &x = sx[m * X.width + r.x_k], &y = sy[m * Y.width + r.y_k];
-    const RatioStats s = ratio_of_means(x.sum.value() / static_cast<double>(N),
-                                        y.sum.value() / static_cast<double>(N), x, y, cross[m], N,
-                                        false);
+    const RatioStats s =
+        ratio_of_means(x.sum.value() / static_cast<double>(N),
+                       y.sum.value() / static_cast<double>(N), x, y, cross[m], N, false);
     mean[m] = s.mean;
     ci[m] = kLambdaP * std::sqrt(s.variance);
     bias[m] = s.bias;
@@ -141,10 +144,12 @@ void write_ratio(Presenter& out, const DsmcConfig& d, const Record& record,
                                       y, record.moments(r.prefix + "steady_cross")[0], N, true);
   const double sigma = N >= 2 ? std::sqrt(s.variance) : NAN;
   const std::string g = "/steady" + r.group;
-  out.write(g + "/mean", std::vector<double>{s.mean}, {}, what + "; steady: the ratio of the steady means");
+  out.write(g + "/mean", std::vector<double>{s.mean}, {},
+            what + "; steady: the ratio of the steady means");
   out.write(g + "/sigma", std::vector<double>{sigma}, {}, "the standard error of " + g + "/mean");
   const double factor = confidence_factor(static_cast<double>(N) - 1);
-  out.write(g + "/ci", std::vector<double>{factor * sigma}, {}, "confidence half-width of " + g + "/mean");
+  out.write(g + "/ci", std::vector<double>{factor * sigma}, {},
+            "confidence half-width of " + g + "/mean");
   out.write(g + "/bias", std::vector<double>{N >= 2 ? s.bias : NAN}, {},
             "the leading 1/N bias of " + g + "/mean");
   attrs(g, steady_how);

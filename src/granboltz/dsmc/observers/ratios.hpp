@@ -14,10 +14,10 @@ namespace granboltz {
 
 /// One ratio of two scalars of the row sets.
 struct RatioSet {
-  std::string prefix;        ///< of its accumulators
-  std::string group;         ///< of its datasets, and under /steady
-  std::size_t x_set, y_set;  ///< row sets: 0 the whole gas, k + 1 extra_row_sets()[k]
-  std::uint64_t x_k, y_k;    ///< the scalar of each row
+  std::string prefix;                  ///< of its accumulators
+  std::string group;                   ///< of its datasets, and under /steady
+  std::size_t x_set, y_set;            ///< row sets: 0 the whole gas, k + 1 extra_row_sets()[k]
+  std::uint64_t x_k, y_k;              ///< the scalar of each row
   std::string numerator, denominator;  ///< names written as attributes (species names for T_a/T_b)
 };
 /// theta = T_rot/T with dsmc.roughness, then T_a/T_b for every pair a < b of dsmc.species in the

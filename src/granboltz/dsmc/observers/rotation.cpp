@@ -3,9 +3,10 @@
 namespace granboltz {
 
 namespace {
-const ObservableInfo kRotational{"temperature_rotational", 0, 0,
-                                 "T_rot = sum_j I_j |omega_j|^2 / (n d_rot), d_rot = 3 (d = 3) or 1 "
-                                 "(d = 2): the rotational temperature of rough particles"};
+const ObservableInfo kRotational{
+    "temperature_rotational", 0, 0,
+    "T_rot = sum_j I_j |omega_j|^2 / (n d_rot), d_rot = 3 (d = 3) or 1 "
+    "(d = 2): the rotational temperature of rough particles"};
 }  // namespace
 
 RotationObserver::RotationObserver(const DsmcConfig& d)

@@ -42,7 +42,8 @@ std::vector<RowSet> extra_row_sets(const DsmcConfig& d) {
   if (d.species_written)
     for (std::size_t a = 0; a < d.species.size(); ++a)
       out.push_back({"species_" + std::to_string(a) + "_", "/species/" + d.species[a].name,
-                     static_cast<std::uint64_t>(kNumScalars), static_cast<std::uint64_t>(d.moments)});
+                     static_cast<std::uint64_t>(kNumScalars),
+                     static_cast<std::uint64_t>(d.moments)});
   if (d.roughness.on) out.push_back({"rotation_", "", 1, 0});
   return out;
 }
@@ -143,7 +144,9 @@ void add_rows(const DsmcConfig& d, const std::vector<double>& times, const RowSe
   for (std::uint64_t m = 0; m < rows; ++m) {
     const double* o = obs + m * W;
     for (std::uint64_t k = 0; k < W; ++k)
-      if (!std::isfinite(o[k])) throw_not_finite(set.group.empty() && W == kNumScalars ? static_cast<int>(k) : -1, o[k], times[m], e);
+      if (!std::isfinite(o[k]))
+        throw_not_finite(set.group.empty() && W == kNumScalars ? static_cast<int>(k) : -1, o[k],
+                         times[m], e);
     for (std::uint64_t k = 0; k < W; ++k) series[m * W + k].add(o[k]);
     const double* mm = moments + m * P;
     if (P) {
@@ -151,9 +154,9 @@ void add_rows(const DsmcConfig& d, const std::vector<double>& times, const RowSe
       for (std::uint64_t k = 0; k < P; ++k)
         if (!(std::fabs(mm[k]) <= kMomentLimit))
           throw std::runtime_error(
-              "dsmc.moments = " + std::to_string(P) + ": " +
-              moment_name(static_cast<int>(k) + 1) + " = " + format_real(mm[k]) +
-              " at t = " + format_real(times[m]) + " in ensemble " + std::to_string(e) +
+              "dsmc.moments = " + std::to_string(P) + ": " + moment_name(static_cast<int>(k) + 1) +
+              " = " + format_real(mm[k]) + " at t = " + format_real(times[m]) + " in ensemble " +
+              std::to_string(e) +
               " exceeds 1e150 (its square would overflow); ask for fewer moments");
       auto& mseries = record.moments(set.prefix + "moment_series");
       for (std::uint64_t k = 0; k < P; ++k) mseries[m * P + k].add(mm[k]);
@@ -183,7 +186,7 @@ SteadyStats row_set_steady_stats(const DsmcConfig& d, const Record& record, cons
   const std::uint64_t K = W + P, L = steady_block_levels(d);
   // Blocking within the ensembles (Flyvbjerg & Petersen 1989) only where too few ensembles give
   // a spread of their own.
-  const SteadyEstimator how = d.steady_ci_independent && !batch ? SteadyEstimator::kIndependent
+  const SteadyEstimator how = d.steady_ci_independent && !batch    ? SteadyEstimator::kIndependent
                               : N >= kSteadyMinEnsembles || L == 0 ? SteadyEstimator::kEnsembles
                                                                    : SteadyEstimator::kBlocking;
   std::vector<double> blocked;
@@ -220,7 +223,8 @@ void write_observable(Presenter& out, const std::string& prefix, const Observabl
   const std::string g = prefix + "/" + o.name;
   const std::string what = std::string(o.description) + (scalar_rows ? "" : "; per row t_m");
   out.write(g + "/mean", mean, dims, what + ": mean over the ensembles");
-  out.write(g + "/ci", ci, dims, what + ": confidence half-width (lambda_p: root attribute confidence_lambda_p)");
+  out.write(g + "/ci", ci, dims,
+            what + ": confidence half-width (lambda_p: root attribute confidence_lambda_p)");
   out.write(g + "/variance", var, dims, what + ": variance over the ensembles");
   out.attr(g, "description", std::string(o.description));
 }
@@ -240,8 +244,8 @@ void write_steady_observable(Presenter& out, const DsmcConfig& d, const Record& 
     std::uint64_t block_rows = 0;
     const char* estimator = "independent";
     for (int k = 0; k < size; ++k) {
-      const SteadyStats s =
-          row_set_steady_stats(d, record, set, base + static_cast<std::uint64_t>(o.offset + k), batch);
+      const SteadyStats s = row_set_steady_stats(
+          d, record, set, base + static_cast<std::uint64_t>(o.offset + k), batch);
       mean.push_back(s.mean);
       ci.push_back(s.ci);
       var.push_back(s.variance);
@@ -253,7 +257,8 @@ void write_steady_observable(Presenter& out, const DsmcConfig& d, const Record& 
       estimator = s.estimator;
     }
     if (group == g) {
-      const std::string what = std::string(o.description) + "; steady average over t_m > steady_from";
+      const std::string what =
+          std::string(o.description) + "; steady average over t_m > steady_from";
       out.write(g + "/mean", mean, dims, what + ": mean");
       out.write(g + "/ci", ci, dims, what + ": confidence half-width");
       out.write(g + "/variance", var, dims, what + ": variance");
@@ -265,7 +270,8 @@ void write_steady_observable(Presenter& out, const DsmcConfig& d, const Record& 
                std::string("the batch estimator's interval (dsmc.steady_ci: batch), which "
                            "accounts for the correlation of consecutive rows"));
     }
-    out.write(group + "/sigma", sigma, dims, "the standard error of " + g + "/mean (" + estimator + ")");
+    out.write(group + "/sigma", sigma, dims,
+              "the standard error of " + g + "/mean (" + estimator + ")");
     out.attr(group, "estimator", std::string(estimator));
     out.attr(group, "tau_int", tau);
     out.attr(group, "effective_samples", neff);
@@ -367,16 +373,19 @@ void write_sonine(Presenter& out, const DsmcConfig& d, const Record& record, con
   }
   if (!d.steady) return;
   // Steady: each ensemble's time averages of M2, M4, M6 are one independent sample.
-  const Sonine s = sonine(&record.moments(x + "steady_ensemble")[set.width],
-                          record.moments(x + "steady_moment_cross").data(), P, N, true, d.dimension);
+  const Sonine s =
+      sonine(&record.moments(x + "steady_ensemble")[set.width],
+             record.moments(x + "steady_moment_cross").data(), P, N, true, d.dimension);
   const double factor = confidence_factor(static_cast<double>(N) - 1);
   for (int which = 2; which <= (P >= 3 ? 3 : 2); ++which) {
     const std::string g = "/steady" + set.group + "/a" + std::to_string(which);
     const double sigma = N >= 2 ? std::sqrt(which == 2 ? s.var_a2 : s.var_a3) : NAN;
-    const std::string what = (which == 2 ? a2_text : a3_text) + "; steady, from the ensembles' time averages";
+    const std::string what =
+        (which == 2 ? a2_text : a3_text) + "; steady, from the ensembles' time averages";
     out.write(g + "/mean", std::vector<double>{which == 2 ? s.a2 : s.a3}, {}, what + ": mean");
     out.write(g + "/sigma", std::vector<double>{sigma}, {}, "the standard error of " + g + "/mean");
-    out.write(g + "/ci", std::vector<double>{factor * sigma}, {}, "confidence half-width of " + g + "/mean");
+    out.write(g + "/ci", std::vector<double>{factor * sigma}, {},
+              "confidence half-width of " + g + "/mean");
     out.write(g + "/bias", std::vector<double>{which == 2 ? s.bias_a2 : s.bias_a3}, {},
               "the leading 1/N bias of " + g + "/mean");
     out.attr(g, "description", which == 2 ? a2_text : a3_text);

@@ -21,10 +21,10 @@ namespace granboltz {
 /// the layout of every one-species run), and for the general gas each species' rows and the
 /// rotational temperature.
 struct RowSet {
-  std::string prefix;    ///< of the record's accumulators ("series" -> prefix + "series")
-  std::string group;     ///< of the output datasets: "" at the top, "/species/<name>"
-  std::uint64_t width;   ///< scalars per row: kNumScalars, or 1 (T_rot)
-  std::uint64_t P;       ///< speed moments per row
+  std::string prefix;   ///< of the record's accumulators ("series" -> prefix + "series")
+  std::string group;    ///< of the output datasets: "" at the top, "/species/<name>"
+  std::uint64_t width;  ///< scalars per row: kNumScalars, or 1 (T_rot)
+  std::uint64_t P;      ///< speed moments per row
 };
 /// The observation times t_m, m = 0..M: m * observe_every (t_M = t_end), or 0 and dsmc.observe's.
 std::vector<double> dsmc_times(const DsmcConfig& d);

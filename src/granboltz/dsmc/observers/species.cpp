@@ -62,8 +62,8 @@ void SpeciesObserver::present(Presenter& out, const Record& record) const {
     const RowSet& set = sets_[a];
     write_moments(out, set.group, record.moments(set.prefix + "series"), rows, N, false);
     if (set.P)
-      write_speed_moments(out, set.group, record.moments(set.prefix + "moment_series"), set.P,
-                          rows, N, false);
+      write_speed_moments(out, set.group, record.moments(set.prefix + "moment_series"), set.P, rows,
+                          N, false);
     if (d_.steady) {
       for (const auto& o : kObservables) write_steady_observable(out, d_, record, o, 0, set);
       write_steady_speed_moments(out, d_, record, set);

@@ -11,8 +11,8 @@ struct Drag {
   static constexpr const char* kName = "drag";
   static constexpr const char* kKey = "gamma";
   static constexpr const char* kMeaning = "friction per unit time gamma_d: dv = -gamma_d v dt";
-  static constexpr bool kPerSpecies = true;   // a mapping of species names is allowed
-  static constexpr bool kNegative = false;    // the parameter must be >= 0
+  static constexpr bool kPerSpecies = true;  // a mapping of species names is allowed
+  static constexpr bool kNegative = false;   // the parameter must be >= 0
   static void add(LinearFlight& f, double gamma) { f.gamma += gamma; }
 };
 

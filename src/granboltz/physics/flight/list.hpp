@@ -22,7 +22,8 @@ struct FlightTypes {
   }
 };
 
-/// The flights read from dsmc.<name> sections (white noise, dsmc.beta, is read with the thermostat).
+/// The flights read from dsmc.<name> sections (white noise, dsmc.beta, is read with the
+/// thermostat).
 using SectionFlights = FlightTypes<Drag, Shear>;
 
 }  // namespace granboltz::flight

@@ -6,7 +6,8 @@
 //   exp(-A s) = e^{-gamma s} (I - a s e_x e_y^T),
 // the mean map, and the covariance of the noise is
 //   Sigma(s) = 2 beta int_0^s exp(-A u) exp(-A u)^T du
-//            = 2 beta [I0 + a^2 I2 (xx), -a I1 (xy), I0 (yy, zz)],  I_m = int_0^s u^m e^{-2 gamma u} du.
+//            = 2 beta [I0 + a^2 I2 (xx), -a I1 (xy), I0 (yy, zz)],  I_m = int_0^s u^m e^{-2 gamma
+//            u} du.
 // Sampling it exactly makes the lazy update of a particle from its own last time exact for any s.
 #include <cmath>
 
@@ -21,7 +22,7 @@ namespace granboltz {
 /// cancel), the closed forms above; m = 0 is (1 - e^{-x})/x with expm1 everywhere.
 inline double exp_moment(int m, double x) {
   if (x == 0.0) return 1.0 / static_cast<double>(m + 1);  // no drag
-  if (m == 0) return -std::expm1(-x) / x;                  // accurate at every x > 0
+  if (m == 0) return -std::expm1(-x) / x;                 // accurate at every x > 0
   if (x < 0.5) {
     double term = 1.0, sum = 0.0;
     for (int k = 0; k < 18; ++k) {  // 0.5^18/18! < 1e-21
@@ -32,8 +33,10 @@ inline double exp_moment(int m, double x) {
   }
   const double e = std::exp(-x);
   switch (m) {
-    case 1: return (1.0 - e * (1.0 + x)) / (x * x);
-    default: return (2.0 - e * (2.0 + x * (2.0 + x))) / (x * x * x);
+    case 1:
+      return (1.0 - e * (1.0 + x)) / (x * x);
+    default:
+      return (2.0 - e * (2.0 + x * (2.0 + x))) / (x * x * x);
   }
 }
 

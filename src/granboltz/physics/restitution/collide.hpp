@@ -5,9 +5,9 @@
 #include <variant>
 
 #include "granboltz/core/hot.hpp"
+#include "granboltz/core/vec3.hpp"
 #include "granboltz/physics/collision.hpp"
 #include "granboltz/physics/restitution/laws.hpp"
-#include "granboltz/core/vec3.hpp"
 
 namespace granboltz {
 

@@ -13,8 +13,7 @@ struct ConstantRestitution {
   double alpha = 1.0;
 
   static constexpr std::array<LawParam<ConstantRestitution>, 1> kParams{{
-      {"alpha", &ConstantRestitution::alpha, 0.0, true, 1.0, false,
-       "must satisfy 0 < alpha <= 1"},
+      {"alpha", &ConstantRestitution::alpha, 0.0, true, 1.0, false, "must satisfy 0 < alpha <= 1"},
   }};
 
   /// eps from the squared true normal relative speed g_n^2.

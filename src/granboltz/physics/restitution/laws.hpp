@@ -15,7 +15,9 @@ struct LawList {
   using Variant = std::variant<Laws...>;
   /// Calls f(Law{}) for every law, in order.
   template <class F>
-  static void each(F&& f) { (f(Laws{}), ...); }
+  static void each(F&& f) {
+    (f(Laws{}), ...);
+  }
 };
 
 // The constant law comes first: a default RestitutionLaw is alpha = 1, today's model.

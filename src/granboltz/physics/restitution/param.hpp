@@ -6,11 +6,11 @@ namespace granboltz {
 
 template <class Law>
 struct LawParam {
-  const char* key;    ///< its key inside dsmc.restitution
-  double Law::*value; ///< the member it sets
-  double min;         ///< allowed: min < value (min_open) or min <= value
+  const char* key;     ///< its key inside dsmc.restitution
+  double Law::*value;  ///< the member it sets
+  double min;          ///< allowed: min < value (min_open) or min <= value
   bool min_open;
-  double max;         ///< allowed: value <= max (or < max with max_open)
+  double max;  ///< allowed: value <= max (or < max with max_open)
   bool max_open;
   const char* allowed;  ///< the one-line text of a refusal, e.g. "must be >= 0"
 

@@ -41,17 +41,16 @@ struct GaussianThermostat {
   /// The energy d G T0 of G particles' worth of weight at temperature T0 in d dimensions.
   static double target_of(int d, double G, double T0) { return static_cast<double>(d) * G * T0; }
 
-
   struct Folded {
     double factor;  ///< f
     double energy;  ///< sum g |v - V|^2 (+ I |W|^2) of the folded velocities
   };
 
   /// Folds the scale into the stored velocities: v_i = V + f (w_i - M), M = sum g w / G the
-  /// weighted mean of the stored velocities (G = sum g) and f^2 = target(G) / K, K = sum g |w - M|^2 (+ I |W|^2
-  /// with spins, which scale by f too). Taking f from the exact sum, not from s, removes the
-  /// drift of the running energy; centring on M, not on V, keeps the round-off momentum of the
-  /// stored velocities (and an SWPM roulette's momentum noise) from being amplified by s at
+  /// weighted mean of the stored velocities (G = sum g) and f^2 = target(G) / K, K = sum g |w -
+  /// M|^2 (+ I |W|^2 with spins, which scale by f too). Taking f from the exact sum, not from s,
+  /// removes the drift of the running energy; centring on M, not on V, keeps the round-off momentum
+  /// of the stored velocities (and an SWPM roulette's momentum noise) from being amplified by s at
   /// every fold. `each(fn)` calls fn(i, g_i, I_i) for every particle in one fixed order: the
   /// weight is 1, a species' mass or an SWPM weight, I the moment of inertia (read only with
   /// spins). The same sums in the same order in every engine: a fold's bits depend on them.

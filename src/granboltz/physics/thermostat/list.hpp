@@ -14,10 +14,14 @@ template <class... Ts>
 struct ThermostatTypes {
   /// Calls f(T{}) for every thermostat, in order.
   template <class F>
-  static void each(F&& f) { (f(Ts{}), ...); }
+  static void each(F&& f) {
+    (f(Ts{}), ...);
+  }
   /// Calls f(T{}) for the thermostat whose kId is id.
   template <class F>
-  static void with(Thermostat id, F&& f) { ((Ts::kId == id ? (f(Ts{}), 0) : 0), ...); }
+  static void with(Thermostat id, F&& f) {
+    ((Ts::kId == id ? (f(Ts{}), 0) : 0), ...);
+  }
 };
 
 using ThermostatList = ThermostatTypes<WhiteNoiseThermostat, GaussianThermostat, NoThermostat>;
