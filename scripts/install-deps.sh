@@ -14,6 +14,7 @@ PACKAGES=(
   snakemake python3-numpy python3-h5py python3-matplotlib python3-scipy python3-pytest
   python3-jsonschema python3-yaml python3-pandas python3-xarray python3-sympy python3-mpmath python3-setuptools python3-pip
   pybind11-dev python3-pybind11 python3-dev python3-tqdm
+  clang-format
 )
 # The documentation (`make docs`: Sphinx, furo, myst-parser) and the tutorial notebook, run as a
 # reader runs it (tests/python/test_tutorial.py: jupyter nbconvert --execute, ipykernel, and

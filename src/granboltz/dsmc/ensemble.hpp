@@ -91,9 +91,10 @@ class DsmcEnsemble {
   template <int kLambda, bool kPairwise>
   Pair select_pair(Engine& pairs);  // candidate pair of the majorant process
   void kick_all_by(double h);       // kicking step of length h (splitting schemes)
+  // drag or shear: the majorant's centre 0 (and the shear frame)
   void set_flight_frame();
-  void set_shear_windows();  // shear, nosplit: window_, growth_ and the majorant's factor // drag
-                             // or shear: the majorant's centre 0 (and the shear frame)
+  // shear, nosplit: window_, growth_ and the majorant's factor
+  void set_shear_windows();
   void fly_all_to(double s);   // drag or shear: every particle's flight from its time to s
   void start_window();         // shear: the majorant for the window that starts now
   void kick_all_to(double s);  // kick every particle from its own last time to s
