@@ -3,11 +3,13 @@
 // threads, as merged shards and after a SIGTERM checkpoint, and the refusals of the config.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
 
 #include "granboltz/app/config.hpp"
+#include "granboltz/dsmc/engine.hpp"
 #include "granboltz/h5/hdf5_io.hpp"
 #include "test_support.hpp"
 
@@ -83,6 +85,66 @@ TEST(Correlations, ThreadsShardsAndCheckpointsKeepTheBits) {
       "  gamma: 4\n  t_end: 6\n  observe_every: 1\n"
       "  correlations: {velocity: {}, stress: {}, heat_flux: {}}\n");
   granboltz::test::expect_sigterm_resumes_identically(again, big);
+}
+
+TEST(Correlations, InPlaceSamplesKeepTheBitsOnThreadsShardsAndCheckpoints) {
+  // The Gaussian thermostat and no thermostat are sampled in place (Ensemble::advance_lazily):
+  // the stored velocities and the running scale, no stop. Hard spheres with either majorant, so
+  // that the lazy scale, its folds and the weights in stored units all enter.
+  const std::string hs =
+      "model: dsmc\nseed: 5\nensembles: 4\ndsmc:\n  particles: 1500\n  alpha: 0.6\n"
+      "  kernel: {lambda: 1, C: 0.0795774715459477}\n  t_end: 4\n  observe_every: 1\n"
+      "  correlations: {velocity: {particles: 40}, stress: {every: 0.03}, heat_flux: {}}\n";
+  for (const char* extra :
+       {"  thermostat: gaussian\n  majorant: pairwise\n",
+        "  thermostat: gaussian\n  majorant: global\n", "  thermostat: none\n"}) {
+    TempDir dir;
+    std::string cfg = hs;
+    cfg.replace(cfg.find("  t_end"), 0, extra);
+    granboltz::test::expect_threads_and_shards_identical(dir, dir.write("c.yaml", cfg));
+  }
+  TempDir again;
+  const std::string big =
+      again.write("c.yaml",
+                  "model: dsmc\nseed: 3\nensembles: 2\ncheckpoint: {every_seconds: 3600}\ndsmc:\n"
+                  "  particles: 40000\n  alpha: 0.7\n  thermostat: gaussian\n"
+                  "  kernel: {lambda: 1, C: 0.0795774715459477}\n  gamma: 4\n  t_end: 20\n"
+                  "  observe_every: 1\n"
+                  "  correlations: {velocity: {}, stress: {}, heat_flux: {}}\n");
+  granboltz::test::expect_sigterm_resumes_identically(again, big);
+}
+
+TEST(Correlations, AnInPlaceSampleSeesTheTrueState) {
+  // The lazy view maps the stored velocities to the true ones: the same velocities, to round-off,
+  // as a stop at that time (advance_to runs the same events, then kicks and folds the scale,
+  // whose map is the view's up to the running energy's round-off and the centring on the mean).
+  const std::string base =
+      "model: dsmc\nseed: 9\nensembles: 1\ndsmc:\n  particles: 3000\n  alpha: 0.5\n"
+      "  kernel: {lambda: 1, C: 0.0795774715459477}\n  t_end: 2\n";
+  for (const char* extra :
+       {"  thermostat: gaussian\n  majorant: pairwise\n",
+        "  thermostat: gaussian\n  majorant: global\n", "  thermostat: none\n"}) {
+    SCOPED_TRACE(extra);
+    const Config config = parse_config(base + extra, "test");
+    const auto lazy = make_ensemble(config.dsmc, config.seed, 0);
+    const auto stopped = make_ensemble(config.dsmc, config.seed, 0);
+    ASSERT_TRUE(lazy->advance_lazily(1.0));
+    ASSERT_TRUE(stopped->advance_to(1.0));
+    const ParticleView v = lazy->lazy_view(), u = stopped->view();
+    ASSERT_NE(v.bulk, nullptr);
+    if (std::string(extra).find("gaussian") != std::string::npos) EXPECT_GT(v.scale, 1.0);
+    double worst = 0.0;
+    for (std::size_t i = 0; i < v.particles.size(); ++i)
+      worst = std::max(worst,
+                       norm(*v.bulk + v.scale * (v.particles[i].v - *v.bulk) - u.particles[i].v));
+    EXPECT_LT(worst, 1e-9);
+    EXPECT_EQ(lazy->counts().collisions, stopped->counts().collisions);
+  }
+  // White-noise kicks are random: a lazy particle's state is not yet drawn, so the engine stops.
+  const Config heated = parse_config(base + "  beta: 1\n", "test");
+  const auto e = make_ensemble(heated.dsmc, heated.seed, 0);
+  ASSERT_TRUE(e->advance_lazily(1.0));
+  EXPECT_EQ(e->lazy_view().bulk, nullptr);
 }
 
 TEST(Correlations, TheConfigIsResolvedAndBadOnesAreRefusedInOneLine) {

@@ -38,6 +38,14 @@ class PapersGas final : public Ensemble {
   }
   double time() const override { return e_.time(); }
   ParticleView view() const override { return {e_.particles(), {}, {}, {&block_, 1}}; }
+  bool advance_lazily(double s, const std::atomic<bool>* pause) override {
+    return e_.lazy() ? e_.advance_events_to(s, pause) : e_.advance_to(s, pause);
+  }
+  ParticleView lazy_view() const override {
+    if (!e_.lazy()) return view();
+    bulk_ = e_.centre();
+    return {e_.particles(), {}, {}, {&block_, 1}, &bulk_, e_.scale(), e_.moment_sums()};
+  }
   void save(H5Writer& out, const std::string& group) const override { e_.save(out, group); }
   void set_velocities(const std::vector<Vec3>& v) override { e_.set_velocities(v); }
   Observation observe(const DsmcConfig& d, const RowTargets& out) const override {
@@ -49,6 +57,7 @@ class PapersGas final : public Ensemble {
  private:
   DsmcEnsemble e_;
   SpeciesBlock block_;
+  mutable Vec3 bulk_;
 };
 
 class GeneralGas final : public Ensemble {

@@ -35,6 +35,14 @@ struct ParticleView {
   std::span<const Vec3> spins;            ///< rough particles: one per particle; empty otherwise
   std::span<const double> weights;        ///< weighted particles: one per particle; empty otherwise
   std::span<const SpeciesBlock> species;  ///< one block per species (one for a single species)
+  /// A lazy view (Ensemble::advance_lazily): the true velocity of a stored w is
+  /// bulk + scale (w - bulk), bulk the gas's conserved mean velocity; null for a view whose
+  /// particles hold their true velocities (the mean then has to be summed).
+  const Vec3* bulk = nullptr;
+  double scale = 1.0;
+  /// A lazy view may hold the engine's running sums over c = w - bulk of c_x^2, c_y^2, c_z^2,
+  /// c_x c_y, c_x c_z, c_y c_z, c |c|^2 (DsmcEnsemble::moment_sums): null when it has none.
+  const double* sums = nullptr;
 };
 
 /// Where one observation row goes (the run driver's per-ensemble rows; the Python observe()
@@ -63,6 +71,16 @@ class Ensemble {
   virtual bool advance_to(double s, const std::atomic<bool>* pause = nullptr) = 0;
   virtual double time() const = 0;
   virtual ParticleView view() const = 0;
+  /// Advances to s > time() for a sample between the rows without perturbing the run: where
+  /// the engine can read its state at s in place (the papers' gas, no-splitting scheme, Gaussian
+  /// thermostat or none: no particle has a kick pending), the event loop only stops at s, and
+  /// lazy_view() maps the stored velocities to the true ones. Elsewhere (white-noise kicks are
+  /// random, so a lazy particle's state at s is not yet drawn; splitting schemes; flights;
+  /// the other engines) it is advance_to and lazy_view() is view().
+  virtual bool advance_lazily(double s, const std::atomic<bool>* pause = nullptr) {
+    return advance_to(s, pause);
+  }
+  virtual ParticleView lazy_view() const { return view(); }
 
   /// The complete state under `group` (restore_ensemble reads it back).
   virtual void save(H5Writer& out, const std::string& group) const = 0;

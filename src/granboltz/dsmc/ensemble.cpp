@@ -102,6 +102,8 @@ DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, std::uint64_t seed, std::ui
   } else {
     for (auto& pair : ring_) pair = draw_pair(pairs_);
   }
+  track_ = lazy() && (c_.correlations.stress.on || c_.correlations.heat_flux.on);
+  resum();
 }
 
 void DsmcEnsemble::set_velocities(const std::vector<Vec3>& v) {
@@ -117,6 +119,7 @@ void DsmcEnsemble::set_velocities(const std::vector<Vec3>& v) {
   for (const auto& q : p_) r2 = std::max(r2, norm2(q.v - v0_));
   set_majorant(2.0 * growth_ * std::sqrt(r2));
   if (pairwise_) reweigh_all();
+  resum();
 }
 
 std::uint64_t DsmcEnsemble::random_draws() const {
@@ -213,6 +216,44 @@ void DsmcEnsemble::fold_scale() {
       });
   gauss_.energy = gauss_.target = folded.energy;
   set_scale();
+  resum();
+}
+
+namespace {
+// The terms of DsmcEnsemble::moment_sums() of one peculiar velocity c.
+inline void moment_terms(const Vec3& c, double* q) {
+  const double c2 = norm2(c);
+  q[0] = c.x * c.x;
+  q[1] = c.y * c.y;
+  q[2] = c.z * c.z;
+  q[3] = c.x * c.y;
+  q[4] = c.x * c.z;
+  q[5] = c.y * c.z;
+  q[6] = c.x * c2;
+  q[7] = c.y * c2;
+  q[8] = c.z * c2;
+}
+}  // namespace
+
+void DsmcEnsemble::resum() {
+  if (!track_) return;
+  std::array<double, 9> sum{}, q;
+  for (const auto& p : p_) {
+    moment_terms(p.v - v0_, q.data());
+    for (int k = 0; k < 9; ++k) sum[k] += q[k];
+  }
+  sums_ = sum;
+}
+
+GRANBOLTZ_HOT void DsmcEnsemble::track_pair(const Vec3& a0, const Vec3& b0, const Vec3& a1,
+                                            const Vec3& b1) {
+  // The sums change only where the pair's velocities did: the new terms in, the old out.
+  double qa0[9], qb0[9], qa1[9], qb1[9];
+  moment_terms(a0, qa0);
+  moment_terms(b0, qb0);
+  moment_terms(a1, qa1);
+  moment_terms(b1, qb1);
+  for (int k = 0; k < 9; ++k) sums_[k] += (qa1[k] + qb1[k]) - (qa0[k] + qb0[k]);
 }
 
 void DsmcEnsemble::rescale() {
@@ -425,10 +466,14 @@ bool DsmcEnsemble::run_nosplit(double s, const std::atomic<bool>* pause) {
     if (real) {
       double before = 0.0;
       if constexpr (kGaussian) before = norm2(a.v - v0_) + norm2(b.v - v0_);
+      const Vec3 a0 = a.v, b0 = b.v;
       if (constant_law) [[likely]]
         collide(a.v, b.v, G::direction(a.v - b.v, ev), alpha);  // step 2.9
       else  // eps(g_n) at the true normal speed: the stored one times s under the Gaussian
         collide_law(a.v, b.v, G::direction(a.v - b.v, ev), law, kGaussian ? gauss_.s2 : 1.0);
+      if constexpr (!kHeated)
+        if (track_) [[unlikely]]
+          track_pair(a0 - v0_, b0 - v0_, a.v - v0_, b.v - v0_);
       if constexpr (kGaussian)
         after_gaussian_collision<kLambda, kPairwise>(norm2(a.v - v0_) + norm2(b.v - v0_) - before);
       ++counts.collisions;
@@ -638,14 +683,32 @@ void dispatch(const DsmcConfig& c, int lc, bool pairwise, F&& f) {
 }
 }  // namespace
 
+bool DsmcEnsemble::run_events(double s, const std::atomic<bool>* pause) {
+  // White noise with beta = 0 is free cooling: the loop without kicks.
+  const Thermostat loop = heated_     ? Thermostat::kWhiteNoise
+                          : gaussian_ ? Thermostat::kGaussian
+                                      : Thermostat::kNone;
+  bool reached = true;
+  dispatch(c_, lambda_case(c_.kernel.lambda), pairwise_, [&]<int L, bool P, class G>() {
+    ThermostatList::with(
+        loop, [&](auto heat) { reached = run_nosplit<decltype(heat), L, P, G>(s, pause); });
+  });
+  return reached;
+}
+
+bool DsmcEnsemble::advance_events_to(double s, const std::atomic<bool>* pause) {
+  // Nothing is pending at s but the kicks (none here) and the fold (the view's scale), so the
+  // next events follow as if the loop had not stopped: the waiting time from s is memoryless.
+  if (!run_events(s, pause)) return false;
+  t_ = s;
+  report(t_);
+  return true;
+}
+
 bool DsmcEnsemble::advance_to(double s, const std::atomic<bool>* pause) {
   const int lc = lambda_case(c_.kernel.lambda);
   if (c_.scheme == Scheme::kNoSplit) {
     bool reached = true;
-    // White noise with beta = 0 is free cooling: the loop without kicks.
-    const Thermostat loop = heated_     ? Thermostat::kWhiteNoise
-                            : gaussian_ ? Thermostat::kGaussian
-                                        : Thermostat::kNone;
     if (linear_) {
       // Shear: windows of the majorant on the grid k * window_, each started with every
       // particle at its start (next_window_ is part of the state, so a pause or a checkpoint
@@ -667,11 +730,7 @@ bool DsmcEnsemble::advance_to(double s, const std::atomic<bool>* pause) {
         if (until == s) break;
       }
     } else {
-      dispatch(c_, lc, pairwise_, [&]<int L, bool P, class G>() {
-        ThermostatList::with(
-            loop, [&](auto heat) { reached = run_nosplit<decltype(heat), L, P, G>(s, pause); });
-      });
-      if (!reached) return false;
+      if (!run_events(s, pause)) return false;
       kick_all_to(s);  // step 3.1 / Remark 2
     }
     t_ = s;
@@ -703,7 +762,10 @@ bool DsmcEnsemble::advance_to(double s, const std::atomic<bool>* pause) {
     }
     t_ = s;
   }
-  if (gaussian_) rescale();  // observers see the true velocities, at T = T0 exactly
+  if (gaussian_)
+    rescale();  // observers see the true velocities, at T = T0 exactly
+  else
+    resum();
   report(t_);
   return true;
 }
@@ -751,6 +813,10 @@ void DsmcEnsemble::visit_state(StateArchive& a) {
   if (gaussian_)  // the lazy scale: the particles above are the stored velocities w
     a.pack("thermostat", real("energy", gauss_.energy, positive()),
            real("target", gauss_.target, positive()));
+  if (track_)  // the running sums as they are, round-off included, so a resumed run keeps its bits
+    a.pack("moment_sums", real("cxx", sums_[0]), real("cyy", sums_[1]), real("czz", sums_[2]),
+           real("cxy", sums_[3]), real("cxz", sums_[4]), real("cyz", sums_[5]),
+           real("qx", sums_[6]), real("qy", sums_[7]), real("qz", sums_[8]));
   if (window_ > 0.0) {
     a.pack("flight_window", word("next window", next_window_, counts_between(1, UINT64_MAX)));
     a.require(
@@ -775,6 +841,7 @@ DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, const H5Reader& in, const s
       flight_(config.flight_of(0)),
       linear_(config.linear_flight()) {
   if (linear_) set_shear_windows();  // the window and the majorant's growth factor, as constructed
+  track_ = lazy() && (c_.correlations.stress.on || c_.correlations.heat_flux.on);
   StateArchive r(in, g);
   visit_state(r);
   set_majorant(u_max_);

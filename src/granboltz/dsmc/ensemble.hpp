@@ -57,6 +57,21 @@ class DsmcEnsemble {
   /// time is pending there.
   void set_velocities(const std::vector<Vec3>& v);
 
+  /// The state at time() can be read without kick_all_to and the fold (see advance_events_to):
+  /// no-splitting scheme, no kicks (Gaussian thermostat, none, or white noise with beta = 0), no
+  /// flight.
+  bool lazy() const { return c_.scheme == Scheme::kNoSplit && !linear_ && !heated_; }
+  /// As advance_to, but the event loop only: no kick, no fold of the Gaussian scale, no majorant
+  /// update. Only when lazy(); the true velocities are then centre() + scale() (w - centre()).
+  bool advance_events_to(double s, const std::atomic<bool>* pause = nullptr);
+  double scale() const { return gaussian_ ? std::sqrt(gauss_.s2) : 1.0; }
+  /// The mean velocity, conserved by the collisions (and the Gaussian fold).
+  const Vec3& centre() const { return v0_; }
+  /// With the stress or heat-flux correlation and lazy(): the sums over the stored velocities'
+  /// c = w - centre() of c_x^2, c_y^2, c_z^2, c_x c_y, c_x c_z, c_y c_z and c |c|^2 (3), kept
+  /// at each collision, so that a sample needs no pass over the particles; null otherwise.
+  const double* moment_sums() const { return track_ ? sums_.data() : nullptr; }
+
   const Particles& particles() const { return p_; }
   double time() const { return t_; }
   double u_max() const { return u_max_; }
@@ -93,6 +108,9 @@ class DsmcEnsemble {
   void kick_all_by(double h);       // kicking step of length h (splitting schemes)
   // drag or shear: the majorant's centre 0 (and the shear frame)
   void set_flight_frame();
+  bool run_events(double s, const std::atomic<bool>* pause);  // no-splitting, no flight
+  void resum();  // sums_ anew in particle order: at each fold and stop, so round-off cannot build
+  void track_pair(const Vec3& a0, const Vec3& b0, const Vec3& a1, const Vec3& b1);
   // shear, nosplit: window_, growth_ and the majorant's factor
   void set_shear_windows();
   void fly_all_to(double s);   // drag or shear: every particle's flight from its time to s
@@ -126,12 +144,14 @@ class DsmcEnsemble {
   const DsmcConfig& c_;
   Particles p_;
   double t_ = 0.0;
-  Vec3 v0_;                   // bulk velocity at t = 0: the centre of the majorant (GRW05 step 1.3)
-  double u_max_ = 0.0;        // U_max
-  double u_max2_ = 0.0;       // U_max^2
-  double inv_rate_ = 0.0;     // 1 / pi_hat, pi_hat = 2 pi gamma C (n - 1) U_max^lambda
-  double adapt_factor2_;      // (1 or 2)^2: paper or strict majorant update
-  bool heated_;               // white noise with beta > 0
+  Vec3 v0_;                // bulk velocity at t = 0: the centre of the majorant (GRW05 step 1.3)
+  double u_max_ = 0.0;     // U_max
+  double u_max2_ = 0.0;    // U_max^2
+  double inv_rate_ = 0.0;  // 1 / pi_hat, pi_hat = 2 pi gamma C (n - 1) U_max^lambda
+  double adapt_factor2_;   // (1 or 2)^2: paper or strict majorant update
+  bool heated_;            // white noise with beta > 0
+  bool track_ = false;     // moment_sums() kept (set once the flight is known)
+  std::array<double, 9> sums_{};
   bool gaussian_;             // dsmc.thermostat: gaussian
   GaussianThermostat gauss_;  // gaussian: the lazy scale's sums and s^2
   double clock_ = 1.0;        // gaussian, pairwise majorant: s^-lambda (the rate is in w units)

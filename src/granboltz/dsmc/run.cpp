@@ -157,7 +157,8 @@ void run_dsmc(const DsmcRunConfig& config, const DriverOptions& options, Record&
     }
     Ensemble& ens = *w.ensemble;
     // Samples between the rows (time correlations), each taken where the ensemble is advanced to
-    // its time; those due at or before row time t come before the row.
+    // its time, in place where the engine allows (Ensemble::advance_lazily: no kick, no fold, so
+    // the run goes on as if unobserved); those due at or before row time t come before the row.
     auto sample_until = [&](double t) {
       if (!sampling) return;
       for (;;) {
@@ -166,8 +167,8 @@ void run_dsmc(const DsmcRunConfig& config, const DriverOptions& options, Record&
           s = std::min(s, observers[k]->next_sample(w.observed[k]));
         if (!(s <= t)) return;
         if (s > ens.time())
-          while (!ens.advance_to(s, safe.pause_flag())) safe.park(e, &w);
-        const ParticleView view = ens.view();
+          while (!ens.advance_lazily(s, safe.pause_flag())) safe.park(e, &w);
+        const ParticleView view = ens.lazy_view();
         for (std::size_t k = 0; k < observers.size(); ++k)
           if (observers[k]->next_sample(w.observed[k]) == s)
             observers[k]->sample(view, s, w.observed[k]);

@@ -81,25 +81,46 @@ void CorrelationsObserver::sample(const ParticleView& view, double t, ObserverRo
   const int d = d_.dimension;
   auto mass = [&](std::size_t a) { return d_.general() ? d_.species[a].mass : 1.0; };
 
-  // The bulk velocity and temperature of the ensemble, in particle order (fixed bits).
-  double M = 0.0, P[3] = {0, 0, 0};
-  for (std::size_t a = 0; a < view.species.size(); ++a) {
-    const SpeciesBlock& b = view.species[a];
-    const double m = mass(a);
-    for (std::size_t i = b.offset; i < b.offset + b.count; ++i) {
-      M += m;
-      for (int x = 0; x < d; ++x) P[x] += m * component(view.particles[i].v, x);
-    }
-  }
+  // The bulk velocity: a lazy view knows it (conserved); otherwise summed in particle order.
+  // A lazy view's true velocities are V + f (w - V): the sums below run over w - V and are scaled
+  // by the powers of f, and the tagged particles are all the velocity correlation reads.
+  const double f = view.bulk ? view.scale : 1.0;
   double V[3] = {0, 0, 0};
-  for (int x = 0; x < d; ++x) V[x] = P[x] / M;
+  if (view.bulk) {
+    for (int x = 0; x < d; ++x) V[x] = component(*view.bulk, x);
+  } else {
+    double M = 0.0, P[3] = {0, 0, 0};
+    for (std::size_t a = 0; a < view.species.size(); ++a) {
+      const SpeciesBlock& b = view.species[a];
+      const double m = mass(a);
+      for (std::size_t i = b.offset; i < b.offset + b.count; ++i) {
+        M += m;
+        for (int x = 0; x < d; ++x) P[x] += m * component(view.particles[i].v, x);
+      }
+    }
+    for (int x = 0; x < d; ++x) V[x] = P[x] / M;
+  }
   const double n = static_cast<double>(view.particles.size());
 
   if (due[1] || due[2]) {
-    // One pass: the kinetic energy, the stress sums and the energy flux.
+    // One pass: the kinetic energy, the stress sums and the energy flux; or none, when the engine
+    // keeps these sums itself (about the conserved mean, so that sum c vanishes: the drift term
+    // is round-off there and left out).
     double energy = 0.0, shear[3] = {0, 0, 0}, normal[3] = {0, 0, 0}, flux[3] = {0, 0, 0},
            drift[3] = {0, 0, 0};
-    for (std::size_t a = 0; a < view.species.size(); ++a) {
+    if (const double* q = view.sums) {
+      energy = q[0] + q[1] + q[2];
+      shear[0] = q[3];
+      normal[0] = q[0] - q[1];
+      if (d == 3) {
+        shear[1] = q[4];
+        shear[2] = q[5];
+        normal[1] = q[1] - q[2];
+        normal[2] = q[2] - q[0];
+      }
+      for (int x = 0; x < d; ++x) flux[x] = 0.5 * q[6 + x];
+    }
+    for (std::size_t a = 0; !view.sums && a < view.species.size(); ++a) {
       const SpeciesBlock& b = view.species[a];
       const double m = mass(a);
       for (std::size_t i = b.offset; i < b.offset + b.count; ++i) {
@@ -119,6 +140,16 @@ void CorrelationsObserver::sample(const ParticleView& view, double t, ObserverRo
           flux[x] += c[x] * (0.5 * m * c2);
           drift[x] += c[x];
         }
+      }
+    }
+    if (view.bulk) {
+      const double f2 = f * f, f3 = f2 * f;
+      energy *= f2;
+      for (int x = 0; x < 3; ++x) {
+        shear[x] *= f2;
+        normal[x] *= f2;
+        flux[x] *= f3;
+        drift[x] *= f;
       }
     }
     const double T = energy / (n * d), root = std::sqrt(n);
@@ -147,7 +178,8 @@ void CorrelationsObserver::sample(const ParticleView& view, double t, ObserverRo
       const std::uint64_t tagged = d_.correlations.velocity.particles;
       for (std::uint64_t i = 0; i < tagged; ++i)
         for (int x = 0; x < d; ++x)
-          c[i * d + x] = component(view.particles[b.offset + i].v, x) - V[x];
+          c[i * d + x] = view.bulk ? f * (component(view.particles[b.offset + i].v, x) - V[x])
+                                   : component(view.particles[b.offset + i].v, x) - V[x];
       w.correlators[j].add(c);
     }
   }
