@@ -114,6 +114,23 @@ TEST(Correlations, InPlaceSamplesKeepTheBitsOnThreadsShardsAndCheckpoints) {
   granboltz::test::expect_sigterm_resumes_identically(again, big);
 }
 
+TEST(Correlations, TheRowsSeeTheTrueStateWhereSamplesFallOnThem) {
+  // Samples every 0.25 fall on the rows (every 1): the row must still see the folded state, at
+  // T = T0 under the Gaussian thermostat, not the stored velocities of an in-place sample.
+  TempDir dir;
+  const std::string cfg =
+      dir.write("c.yaml",
+                "model: dsmc\nseed: 4\nensembles: 2\ndsmc:\n  particles: 1000\n  alpha: 0.5\n"
+                "  thermostat: gaussian\n  kernel: {lambda: 1, C: 0.0795774715459477}\n  t_end: 6\n"
+                "  observe_every: 1\n  correlations: {stress: {every: 0.25}}\n");
+  const auto r = granboltz::test::run_granboltz("run " + cfg + " -q -o " + dir.file("o.h5"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  H5Reader in(dir.file("o.h5"));
+  const auto T = in.read_double("/temperature/mean");
+  ASSERT_EQ(T.size(), 7u);
+  for (std::size_t m = 0; m < T.size(); ++m) EXPECT_NEAR(T[m], 1.0, 1e-12) << "row " << m;
+}
+
 TEST(Correlations, AnInPlaceSampleSeesTheTrueState) {
   // The lazy view maps the stored velocities to the true ones: the same velocities, to round-off,
   // as a stop at that time (advance_to runs the same events, then kicks and folds the scale,

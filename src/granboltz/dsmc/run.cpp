@@ -166,9 +166,16 @@ void run_dsmc(const DsmcRunConfig& config, const DriverOptions& options, Record&
         for (std::size_t k = 0; k < observers.size(); ++k)
           s = std::min(s, observers[k]->next_sample(w.observed[k]));
         if (!(s <= t)) return;
-        if (s > ens.time())
-          while (!ens.advance_lazily(s, safe.pause_flag())) safe.park(e, &w);
-        const ParticleView view = ens.lazy_view();
+        // A sample at a row's time takes the row's stop (the fold and the majorant are due there
+        // anyway, and the row then sees the true velocities); between the rows it is in place.
+        const bool at_row = s == t;
+        if (s > ens.time()) {
+          if (at_row)
+            while (!ens.advance_to(s, safe.pause_flag())) safe.park(e, &w);
+          else
+            while (!ens.advance_lazily(s, safe.pause_flag())) safe.park(e, &w);
+        }
+        const ParticleView view = at_row ? ens.view() : ens.lazy_view();
         for (std::size_t k = 0; k < observers.size(); ++k)
           if (observers[k]->next_sample(w.observed[k]) == s)
             observers[k]->sample(view, s, w.observed[k]);
