@@ -68,8 +68,10 @@ class DsmcEnsemble {
   /// The mean velocity, conserved by the collisions (and the Gaussian fold).
   const Vec3& centre() const { return v0_; }
   /// With the stress or heat-flux correlation and lazy(): the sums over the stored velocities'
-  /// c = w - centre() of c_x^2, c_y^2, c_z^2, c_x c_y, c_x c_z, c_y c_z and c |c|^2 (3), kept
-  /// at each collision, so that a sample needs no pass over the particles; null otherwise.
+  /// c = w - centre() of c_x^2, c_y^2, c_z^2, c_x c_y, c_x c_z, c_y c_z and c |c|^2 (3), so
+  /// that a sample needs no pass over the particles; null otherwise. The first six are kept at
+  /// each collision with the stress correlation, the last three with the heat flux; a sum no
+  /// correlation reads is exact at the last fold or row only.
   const double* moment_sums() const { return track_ ? sums_.data() : nullptr; }
 
   const Particles& particles() const { return p_; }
@@ -151,6 +153,7 @@ class DsmcEnsemble {
   double adapt_factor2_;   // (1 or 2)^2: paper or strict majorant update
   bool heated_;            // white noise with beta > 0
   bool track_ = false;     // moment_sums() kept (set once the flight is known)
+  bool track_stress_ = false, track_heat_ = false;  // which of them: c_a c_b, c |c|^2
   std::array<double, 9> sums_{};
   bool gaussian_;             // dsmc.thermostat: gaussian
   GaussianThermostat gauss_;  // gaussian: the lazy scale's sums and s^2

@@ -51,7 +51,8 @@ class MultipleTauCorrelator {
 
   std::uint64_t channels() const { return C_; }
   const Resolution& resolution() const { return r_; }
-  const State& state() const { return s_; }
+  /// The state with each level's values newest first (the order a restore expects).
+  State state() const;
 
   /// The lags, in samples, in increasing order: 0..p-1, then j m^k for k >= 1, j = p/m..p-1.
   std::vector<std::uint64_t> lags() const;
@@ -73,7 +74,8 @@ class MultipleTauCorrelator {
 
   std::uint64_t C_;
   Resolution r_;
-  State s_;
+  State s_;  // shift held as a ring per level: the newest value of level k in slot head_[k]
+  std::vector<std::uint64_t> head_;
 };
 
 }  // namespace granboltz

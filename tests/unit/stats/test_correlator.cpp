@@ -48,7 +48,10 @@ Series coarsen(const Series& y, unsigned m) {
 
 TEST(Correlator, EveryLevelIsTheBruteForceCorrelationOfItsBlockAveragesBitForBit) {
   const MultipleTauCorrelator::Resolution r{8, 2, 5};
-  const Series x = random_series(1001, 3, 7);
+  // Seven channels: four partial sums over the first four, the rest into the first (the
+  // correlator's fixed order of the products, checked here bit for bit).
+  const std::size_t C = 7;
+  const Series x = random_series(1001, C, 7);
   const auto c = feed(x, r);
   const auto lags = c.lags();
   const auto corr = c.correlation();
@@ -64,9 +67,9 @@ TEST(Correlator, EveryLevelIsTheBruteForceCorrelationOfItsBlockAveragesBitForBit
       double sum = 0.0;
       std::uint64_t n = 0;
       for (std::size_t t = j; t < y.size(); ++t) {
-        double s = 0.0;
-        for (std::size_t ch = 0; ch < 3; ++ch) s += y[t][ch] * y[t - j][ch];
-        sum += s;
+        double part[4] = {0.0, 0.0, 0.0, 0.0};
+        for (std::size_t ch = 0; ch < C; ++ch) part[ch < 4 ? ch : 0] += y[t][ch] * y[t - j][ch];
+        sum += (part[0] + part[1]) + (part[2] + part[3]);
         ++n;
       }
       ASSERT_EQ(origins[i], n) << "level " << k << " lag " << j;
@@ -74,7 +77,8 @@ TEST(Correlator, EveryLevelIsTheBruteForceCorrelationOfItsBlockAveragesBitForBit
         EXPECT_TRUE(std::isnan(corr[i]));
         continue;
       }
-      EXPECT_EQ(corr[i], sum / (static_cast<double>(n) * 3.0)) << "level " << k << " lag " << j;
+      EXPECT_EQ(corr[i], sum / (static_cast<double>(n) * static_cast<double>(C)))
+          << "level " << k << " lag " << j;
     }
   }
   EXPECT_EQ(i, lags.size());
