@@ -2,7 +2,7 @@
 homogeneous cooling state (Gaussian thermostat) and the white-noise steady state, against van
 Noije-Ernst's d = 2 first Sonine a2 and the second Sonine approximation (a2 and a3; derived,
 granboltz.theory.sonine.second_sonine); white-noise T against the energy balance.  Rows, judgement
-and verdict: granboltz.reproduction.disks (disk_a2_rows, disk_a2_verdict).  Writes the table, the figure
+and verdict: granboltz.reproduction.disks (disk_a2_rows, disk_summary_verdict).  Writes the table, the figure
 (a2 above and a3 below, one column per thermostat) and the summary with the computed verdict.
 """
 
@@ -13,7 +13,7 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 import numpy as np  # noqa: E402
 
 from granboltz import read_run  # noqa: E402
-from granboltz.reproduction.disks import disk_a2_rows, disk_a2_verdict, disk_item_verdict, disk_references  # noqa: E402
+from granboltz.reproduction.disks import disk_a2_rows, disk_references, disk_summary_verdict  # noqa: E402
 from granboltz.output.files import write_csv, write_json  # noqa: E402
 from granboltz.output.plotting import figure_summary, label_sonine_panels, pyplot, save_figure  # noqa: E402
 
@@ -47,9 +47,6 @@ for ax in axes[0]:
 fig.legend(list(legend.values()), list(legend), loc="upper center", bbox_to_anchor=(0.5, 0.03), ncol=4, fontsize=7)
 save_figure(fig, [snakemake.output.png, snakemake.output.pdf])
 
-verdicts = {t: disk_a2_verdict(rows, t) for t in ("gaussian", "white_noise")}
-ok = all(v[0] for v in verdicts.values())
-ours = "; ".join(f"{t.replace('_', ' ')}: {text}" for t, (_, text) in verdicts.items())
-kind, short = disk_item_verdict(rows)
+ok, kind, ours, short = disk_summary_verdict(rows)
 write_json(figure_summary(ours, short, kind=kind, ok=ok), snakemake.output.summary)
 print(ours, file=sys.stderr)

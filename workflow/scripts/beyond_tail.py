@@ -12,9 +12,9 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 import numpy as np  # noqa: E402
 
 from granboltz import read_run  # noqa: E402
-from granboltz.reproduction.beyond import steady_histogram, tail_verdict  # noqa: E402
+from granboltz.reproduction.beyond import steady_histogram, tail_item_verdict  # noqa: E402
 from granboltz.output.files import write_csv, write_json  # noqa: E402
-from granboltz.analysis.local_exponent import far_estimate, local_exponent, pool_shells  # noqa: E402
+from granboltz.analysis.local_exponent import local_exponent, pool_shells  # noqa: E402
 from granboltz.output.plotting import figure_summary, pyplot, save_figure  # noqa: E402
 
 p = snakemake.params
@@ -39,13 +39,6 @@ ax.set_ylim(0, 3)
 ax.legend()
 save_figure(fig, [snakemake.output.png, snakemake.output.pdf])
 
-try:
-    far = far_estimate(res, max_ci=p.max_ci)
-    good, text = tail_verdict(far)
-except ValueError:
-    far, good, text = None, False, f"no window measures b to ±{p.max_ci}"
-short = ("agrees: consistent with b = 1" if good else "not yet asymptotic where constant weights end (b = 1 holds "
-         "only far out)") + (f" (b = {far['value']:.2f} ± {far['ci']:.2f})" if far else "")
-write_json(figure_summary(text, short, kind="agrees" if good else "approximation", ok=good, far=far),
-           snakemake.output.summary)
+good, kind, text, short, far = tail_item_verdict(res, p.max_ci)
+write_json(figure_summary(text, short, kind=kind, ok=good, far=far), snakemake.output.summary)
 print(text, np.round(res["b"], 2), file=sys.stderr)

@@ -6,7 +6,8 @@ Euler runs (thin) at one n, N, K. params.exact (Fig. 3): also the exact Crit(t) 
 of the moment hierarchy (lambda = 0). Crit is eq. (29) of the ensemble means of the moments
 (granboltz.reproduction.dsmc.crit_of_means: it starts from zero for the Maxwellian of eq. 26, as in the
 paper; the mean of the per-ensemble Crit, the simulator's /crit, carries a sampling bias of
-order 1/sqrt(n) and is only given in the summary). The summary gives Crit(t_end) +- ci.
+order 1/sqrt(n) and is only given in the summary). The summary gives Crit(t_end) +- ci
+(granboltz.reproduction.dsmc_verdicts.crit_curves_verdict).
 """
 
 import sys
@@ -14,6 +15,7 @@ import sys
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
 from granboltz.reproduction.dsmc import crit_of_means, read_dsmc  # noqa: E402
+from granboltz.reproduction.dsmc_verdicts import crit_curves_verdict  # noqa: E402
 from granboltz.output.files import write_json  # noqa: E402
 from granboltz.theory.maxwell_hierarchy import crit_exact, crit_steady  # noqa: E402
 from granboltz.analysis.moment_checks import hierarchy_physics  # noqa: E402
@@ -56,19 +58,7 @@ ax.legend(loc="lower right")
 fig.tight_layout()
 save_figure(fig, [snakemake.output.png, snakemake.output.pdf])
 
-t_end = runs[0].time[-1]
-text = f"Crit({t_end:g}) = " + ", ".join(f"{c:.4f} ± {ci:.4f} ({name})" for name, c, ci in ends)
-if by_scheme:
-    ref = ends[0]
-    short = "; ".join(f"{name} {c - ref[1]:+.4f} ({abs(c - ref[1]) / max(ci, ref[2]):.1f} ci)" for name, c, ci in ends[1:])
-    short = "Crit(t_end) − no-splitting: " + short
-    text += "; differences to no-splitting: " + ", ".join(
-        f"{name} {c - ref[1]:+.4f} ({abs(c - ref[1]) / max(ci, ref[2]):.1f} ci)" for name, c, ci in ends[1:])
-else:
-    start = ", ".join(f"{crit_of_means(run)[0][0]:.4f}" for run in runs)
-    order = all(a[1] < b[1] for a, b in zip(ends, ends[1:]))
-    text += f"; Crit(0) = {start}" + ("; increasing in n (from below)" if order else "; order in n within the noise")
-    short = f"from Crit(0) ≤ {max(crit_of_means(run)[0][0] for run in runs):.3f} to " + ", ".join(
-        f"{c:.3f}" for _, c, _ in ends) + (" (increasing in n)" if order else "")
+starts = [float(crit_of_means(run)[0][0]) for run in runs]
+text, short = crit_curves_verdict(ends, runs[0].time[-1], by_scheme, starts)
 write_json(figure_summary(text, short, crit_end={name: [c, ci] for name, c, ci in ends}, per_ensemble=per_ensemble),
               snakemake.output.summary)

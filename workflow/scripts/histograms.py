@@ -4,7 +4,8 @@ f_k (GRW05 eq. 37: fraction of particles in the shell r_{k-1} <= |v| < r_k, r_k 
 averaged over the N ensembles) against r_k: the initial Maxwellian (thick) and the final,
 steady distribution (thin). Left r in params.left (paper [0, 10]); right the tail, r in
 params.right (paper [2, 10]), zoomed on the final histogram. The summary gives the temperatures
-and the share of particles beyond the right panel's lower end.
+and the share of particles beyond the right panel's lower end
+(granboltz.reproduction.dsmc_verdicts.histogram_verdict).
 """
 
 import sys
@@ -12,6 +13,7 @@ import sys
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
 from granboltz.reproduction.dsmc import read_histogram  # noqa: E402
+from granboltz.reproduction.dsmc_verdicts import histogram_verdict  # noqa: E402
 from granboltz.output.files import write_json  # noqa: E402
 from granboltz.output.plotting import figure_summary, pyplot, save_figure  # noqa: E402
 
@@ -39,9 +41,7 @@ save_figure(fig, [snakemake.output.png, snakemake.output.pdf])
 lo = snakemake.params.right[0]
 tail_first, tail_last = float(first[r > lo].sum()), float(last[r > lo].sum())
 r_max = float(r[hist["counts"][-1, :-1] > 0].max())
-text = (f"T = {T0:.3f} initially, {T:.3f} at t = {hist['time'][-1]:g}; beyond r = {lo:g} the final histogram holds "
-        f"{tail_last:.3f} of the particles (initial {tail_first:.2g}), its last non-empty shell ends at r = {r_max:g}")
+text, short = histogram_verdict(T0, T, hist["time"][-1], lo, tail_first, tail_last, r_max)
 print(text, file=sys.stderr)
-short = f"T from {T0:.3g} to {T:.4g}; {tail_last:.3f} of the particles beyond r = {lo:g} (initially {tail_first:.2g})"
 write_json(figure_summary(text, short, T_initial=T0, T_final=T, tail_final=tail_last, tail_initial=tail_first,
                                 r_max=r_max, n=hist["n"], N=hist["N"]), snakemake.output.summary)

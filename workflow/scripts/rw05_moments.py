@@ -4,7 +4,8 @@ For each run of Fig. 3 (n, N): <|v - V|^4>(t) (/moment_4) relative to the exact 
 Crit(t) (crit_of_means) minus the exact Crit(t) (granboltz.theory.maxwell_hierarchy), with their bands
 (lambda_p = 3.2).  Output csv: every n at the times params.times (moment_checks.RW05_COLUMNS).
 Summary: the verdict for the largest n (is the exact Crit inside its band at every observation
-time?), with the estimator bias of Crit at the ensemble means (moment_checks.crit_estimator_bias).
+time?), with the estimator bias of Crit at the ensemble means (moment_checks.crit_estimator_bias);
+granboltz.reproduction.dsmc_verdicts.rw05_moments_verdict.
 """
 
 import sys
@@ -15,7 +16,8 @@ import numpy as np  # noqa: E402
 
 from granboltz.reproduction.dsmc import read_dsmc  # noqa: E402
 from granboltz.output.files import write_csv, write_json  # noqa: E402
-from granboltz.analysis.moment_checks import RW05_COLUMNS, crit_estimator_bias, crit_verdict, rw05_moment_rows  # noqa: E402
+from granboltz.analysis.moment_checks import RW05_COLUMNS, crit_estimator_bias, rw05_moment_rows  # noqa: E402
+from granboltz.reproduction.dsmc_verdicts import rw05_moments_verdict  # noqa: E402
 from granboltz.output.plotting import figure_summary, pyplot, save_figure  # noqa: E402
 
 plt = pyplot()
@@ -44,14 +46,7 @@ fig.tight_layout()
 save_figure(fig, [snakemake.output.png, snakemake.output.pdf])
 write_csv(table, RW05_COLUMNS, snakemake.output.csv, digits=6)
 
-big = runs[-1]
-bias = float(np.max(crit_estimator_bias(big)))
-short = crit_verdict(full[big.n], bias)
-end = full[big.n][-1]
-text = (f"{short}; at t = {end['t']:g}: Crit = {end['crit']:.5f} ± {end['crit_ci']:.5f} against exact "
-        f"{end['crit_exact']:.5f} (steady 0.11907), <|v−V|^4> = {end['M4']:.3f} ± {end['M4_ci']:.3f} against "
-        f"{end['M4_exact']:.3f}; smaller n: " + ", ".join(
-            f"n = {n}: max |σ| Crit {max(abs(r['crit_sigma']) for r in rows):.1f}, M4 "
-            f"{max(abs(r['M4_sigma']) for r in rows):.1f}" for n, rows in full.items() if n != big.n))
+bias = float(np.max(crit_estimator_bias(runs[-1])))
+text, short = rw05_moments_verdict(full, bias)
 print(text, file=sys.stderr)
 write_json(figure_summary(text, short, crit_bias=bias), snakemake.output.summary)

@@ -4,7 +4,8 @@ b(r) = 1 + d ln(-d_r ln f)/d ln r on sliding windows of pooled shells, with its 
 the delta method), against the theory b = 1 + lambda/2 (tail_theory) and against b(r) of the
 theory tail r^chi exp(-a r^b) with a, chi fitted at that b (dashed); shaded: the paper's eq. (38)
 window and the configured one (x = ln(k - k0) in r); dotted: where the data run out
-(local_exponent.data_limit).  Summary: granboltz.analysis.tail_local.SUMMARY_KEYS and the verdict.
+(local_exponent.data_limit).  Summary: granboltz.analysis.tail_local.SUMMARY_KEYS and the verdict
+(granboltz.reproduction.grw05_tails.tail_local_verdict).
 """
 
 import sys
@@ -17,7 +18,8 @@ from granboltz.reproduction.dsmc import read_histogram  # noqa: E402
 from granboltz.output.files import write_json  # noqa: E402
 from granboltz.analysis.local_exponent import shells_from_h5  # noqa: E402
 from granboltz.output.plotting import figure_summary, pyplot, save_figure  # noqa: E402
-from granboltz.analysis.tail_local import local_tail_summary, local_verdict, model_local_exponent, window_radii  # noqa: E402
+from granboltz.analysis.tail_local import local_tail_summary, model_local_exponent, window_radii  # noqa: E402
+from granboltz.reproduction.grw05_tails import tail_local_verdict  # noqa: E402
 
 plt = pyplot()
 tails, example = snakemake.params.tails, snakemake.params.example
@@ -52,9 +54,7 @@ ax.legend(loc="upper right", fontsize=6.5)
 fig.tight_layout()
 save_figure(fig, [snakemake.output.png, snakemake.output.pdf])
 
-short = local_verdict(s)
-text = (f"Example {example} (λ = {lam:g}): {short.split(': ', 1)[1]}; data run out at r = {s['r_limit']:.3g}; "
-        f"eq. (38) slope expected on the paper's window {s['b_eq38_expected_paper']:.3f}")
+text, short = tail_local_verdict(s, example, lam)
 print(text, file=sys.stderr)
 write_json(figure_summary(text, short, **s, curve={k: curve[k].tolist() for k in ("r", "b", "ci_b")}),
            snakemake.output.summary)

@@ -6,7 +6,8 @@ is the same since r_k = k h), y_k = ln(ln f_k0 - ln f_k) with f_k the shell frac
 divided by the shell volume (params.tails.histogram = density; or the fraction itself); thick
 line. Thin guide lines
 y = x + c, 1.25 x + c, 1.5 x + c (c = params.guide_intercept: -2, -3, -2 in the paper), and the
-least-squares line on params.tails.fit_window (dashed), whose slope b is in the summary.
+least-squares line on params.tails.fit_window (dashed), whose slope b is in the summary
+(granboltz.reproduction.grw05_tails.tail_plot_verdict).
 """
 
 import sys
@@ -18,7 +19,8 @@ import numpy as np  # noqa: E402
 from granboltz.reproduction.dsmc import read_histogram  # noqa: E402
 from granboltz.output.files import write_json  # noqa: E402
 from granboltz.output.plotting import figure_summary, pyplot, save_figure  # noqa: E402
-from granboltz.analysis.tails import fit_tail, tail_points, window_text  # noqa: E402
+from granboltz.analysis.tails import fit_tail, tail_points  # noqa: E402
+from granboltz.reproduction.grw05_tails import tail_plot_verdict  # noqa: E402
 
 plt = pyplot()
 tails, c = snakemake.params.tails, snakemake.params.guide_intercept
@@ -50,10 +52,7 @@ ax.legend(loc="upper left")
 fig.tight_layout()
 save_figure(fig, [snakemake.output.png, snakemake.output.pdf])
 
-text = (f"Example {snakemake.params.example} (λ = {lam:g}): y_k nearly linear up to x = {x.max():.2f} (k = {k.max()}); "
-        f"least-squares slope b = {fit['b']:.3f} ± {fit['b_stderr']:.3f} on x ∈ {window_text(tails['fit_window'])}"
-        f" ({fit['points']} shells), theory {1 + lam / 2:g}")
+text, short = tail_plot_verdict(snakemake.params.example, lam, fit, tails["fit_window"], x.max(), k.max())
 print(text, file=sys.stderr)
-short = f"b = {fit['b']:.3f} ± {fit['b_stderr']:.3f} on {window_text(tails['fit_window'])} (theory {1 + lam / 2:g})"
 write_json(figure_summary(text, short, **fit, x_last=float(x.max()), n=hist["n"], N=hist["N"]),
               snakemake.output.summary)

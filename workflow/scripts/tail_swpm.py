@@ -5,7 +5,8 @@ filled markers are resolved shells (relative half-width below tails.swpm.max_rel
 are not: the constant-weight noise floor is where its open markers begin.  Dashed: the theory
 tail's slope a r^b (a, b to leading order) through the SWPM fit's intercept.  Right panel: the
 local exponent b(r) of both runs (granboltz.analysis.local_exponent) against theory.  Summary: the numbers
-of granboltz.analysis.tail_swpm.SWPM_KEYS and the verdict (swpm_verdict).
+of granboltz.analysis.tail_swpm.SWPM_KEYS and the verdict
+(granboltz.reproduction.grw05_tails.tail_swpm_item_verdict).
 """
 
 import sys
@@ -17,7 +18,8 @@ import numpy as np  # noqa: E402
 from granboltz.output.files import write_json  # noqa: E402
 from granboltz.analysis.local_exponent import local_exponent, pool_shells, shells_from_h5  # noqa: E402
 from granboltz.output.plotting import figure_summary, pyplot, save_figure  # noqa: E402
-from granboltz.analysis.tail_swpm import effective_counts, shell_profile, swpm_kind, swpm_tail_summary, swpm_verdict  # noqa: E402
+from granboltz.analysis.tail_swpm import effective_counts, shell_profile, swpm_tail_summary  # noqa: E402
+from granboltz.reproduction.grw05_tails import tail_swpm_item_verdict  # noqa: E402
 
 plt = pyplot()
 tails, example = snakemake.params.tails, snakemake.params.example
@@ -67,9 +69,8 @@ fig.suptitle(f"GRW05 Example {example}: weighted particles (SWPM, κ = {swpm_cfg
 fig.tight_layout()
 save_figure(fig, [snakemake.output.png, snakemake.output.pdf])
 
-ok, short = swpm_verdict(s)
-text = f"Example {example}: {short}"
+ok, kind, text, short = tail_swpm_item_verdict(s, example)
 print(text, file=sys.stderr)
-write_json(figure_summary(text, short, kind=swpm_kind(s), reached=ok, **s,
+write_json(figure_summary(text, short, kind=kind, reached=ok, **s,
                           curve={k: curve[k].tolist() for k in ("r", "b", "ci_b")} if len(curve) else {}),
            snakemake.output.summary)

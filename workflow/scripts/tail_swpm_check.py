@@ -3,7 +3,8 @@ tail as importance function and once with another shape (config grw05.tails.swpm
 
 Left panel: ln f(r)/f(0) of both runs (resolved shells filled).  Right panel: the difference of the
 two ln f with its confidence band, which must straddle 0 wherever both are resolved.  Summary: b, a
-and the depth of both (granboltz.analysis.tail_swpm.swpm_tail_summary) and the verdict: the two b agree within
+and the depth of both (granboltz.analysis.tail_swpm.swpm_tail_summary) and the verdict
+(granboltz.reproduction.grw05_tails.swpm_check_verdict): the two b agree within
 the goal's tolerance on b (0.03) and the two a within its tolerance on a (5 %), i.e. the importance
 function does not decide the result.  Whether they also agree within the fits' half-widths is said:
 those treat the shells as independent, while the shells of one ensemble share ancestors, so the
@@ -20,6 +21,7 @@ from granboltz.output.files import write_json  # noqa: E402
 from granboltz.analysis.local_exponent import shells_from_h5  # noqa: E402
 from granboltz.output.plotting import figure_summary, pyplot, save_figure  # noqa: E402
 from granboltz.analysis.tail_swpm import shell_profile, swpm_tail_summary  # noqa: E402
+from granboltz.reproduction.grw05_tails import importance_label, swpm_check_verdict  # noqa: E402
 
 plt = pyplot()
 tails, example = snakemake.params.tails, snakemake.params.example
@@ -30,18 +32,13 @@ splits = {"theory": snakemake.params.theory_split, "check": snakemake.params.che
 s = {k: swpm_tail_summary(v, example, local, swpm_cfg["max_rel_ci"])[0] for k, v in runs.items()}
 
 
-def label(k):
-    sp = splits[k]
-    return f"importance exp(−{sp['rate']:.3g} r^{sp['power']:g})"
-
-
 fig, (ax, bx) = plt.subplots(1, 2, figsize=(8.4, 3.4))
 prof = {k: shell_profile(v) for k, v in runs.items()}
 for k, colour in (("theory", "black"), ("check", "tab:red")):
     r, ratio, rel = prof[k]
     ok = np.isfinite(ratio) & (ratio > 0)
     good = ok & (rel < swpm_cfg["max_rel_ci"])
-    ax.plot(r[good], np.log(ratio[good]), "o", ms=2.2, color=colour, label=f"{label(k)}, resolved")
+    ax.plot(r[good], np.log(ratio[good]), "o", ms=2.2, color=colour, label=f"{importance_label(splits[k])}, resolved")
     ax.plot(r[ok & ~good], np.log(ratio[ok & ~good]), "o", ms=2.2, mfc="none", color=colour, label="unresolved")
 ax.set_xlabel("$r = |v|$")
 ax.set_ylabel("$\\ln f(r)/f(0)$")
@@ -59,23 +56,7 @@ fig.suptitle(f"GRW05 Example {example}, weighted particles: the importance funct
 fig.tight_layout()
 save_figure(fig, [snakemake.output.png, snakemake.output.pdf])
 
-t, c = s["theory"], s["check"]
-db, da = c["b_swpm"] - t["b_swpm"], c["a_swpm"] - t["a_swpm"]
-hb, ha = np.hypot(t["b_swpm_ci"], c["b_swpm_ci"]), np.hypot(t["a_swpm_ci"], c["a_swpm_ci"])
-B_TOL, A_REL = 0.03, 0.05  # the weighted-particle goal's tolerances (granboltz.analysis.tail_swpm.swpm_verdict)
-ok = bool(np.isfinite(db) and abs(db) <= B_TOL and abs(da) <= A_REL * t["a_swpm"])
-within = "within" if abs(db) <= hb and abs(da) <= ha else "beyond"
-text = (f"with {label('check')}: b = {c['b_swpm']:.3f} ± {c['b_swpm_ci']:.3f}, a = {c['a_swpm']:.3f} ± "
-        f"{c['a_swpm_ci']:.3f}, resolved to f/f(0) = {c['depth_swpm']:.1e}; with the theory's "
-        f"{label('theory')}: b = {t['b_swpm']:.3f} ± {t['b_swpm_ci']:.3f}, a = {t['a_swpm']:.3f} ± "
-        f"{t['a_swpm_ci']:.3f}, {t['depth_swpm']:.1e}; difference b {db:+.3f}, a {da:+.3f} ({100 * da / t['a_swpm']:+.1f} %), "
-        f"{within} the fits' combined half-widths ± {hb:.3f}, ± {ha:.3f} (they treat the shells as independent) and "
-        f"{'within' if ok else 'beyond'} the goal's tolerances 0.03 and 5 %")
-short = (("agrees: " if ok else "differs: ") + f"b {db:+.3f}, a {100 * da / t['a_swpm']:+.1f} % between the two "
-         f"importances (goal tolerances 0.03, 5 %; {within} the fits' half-widths ± {hb:.3f}, ± {ha:.3f})")
+ok, kind, text, short = swpm_check_verdict(s["theory"], s["check"], splits["theory"], splits["check"])
 print(text, file=sys.stderr)
-# Both estimates are unbiased for the same tail: a resolved difference beyond the tolerances is a
-# failure; estimates too wide to resolve b (the quick profile's) judge nothing.
-resolved = bool(np.isfinite(db) and max(t["b_swpm_ci"], c["b_swpm_ci"]) <= 0.1)
-kind = "agrees" if ok else ("differs" if resolved and abs(db) > hb + B_TOL else "approximation")
-write_json(figure_summary(text, short, kind=kind, reached=ok, theory=t, check=c), snakemake.output.summary)
+write_json(figure_summary(text, short, kind=kind, reached=ok, theory=s["theory"], check=s["check"]),
+           snakemake.output.summary)

@@ -5,7 +5,7 @@ band [mean - ci, mean + ci] of the temperature (GRW05 eq. 31, lambda_p = 3.2; tw
 against the analytic solution (GRW05 eq. 16 = eqs. 34, 36; RW05 eq. 28; dashed) on the time
 interval snakemake.params.t_range. The temperature is the uncentred estimator (1/3)|v|^2, the
 one behind the papers' tables (RW05 §4.1). The summary counts the t_m at which the analytic
-curve lies inside the band.
+curve lies inside the band (granboltz.reproduction.dsmc_verdicts.temperature_bands_verdict).
 """
 
 import sys
@@ -15,6 +15,7 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 import numpy as np  # noqa: E402
 
 from granboltz.reproduction.dsmc import read_dsmc  # noqa: E402
+from granboltz.reproduction.dsmc_verdicts import temperature_bands_verdict  # noqa: E402
 from granboltz.output.files import write_json  # noqa: E402
 from granboltz.output.plotting import figure_summary, pyplot, save_figure  # noqa: E402
 from granboltz.theory.dimension import dsmc_geometry  # noqa: E402
@@ -51,8 +52,6 @@ axes.flat[0].legend(loc="lower right")
 fig.tight_layout()
 save_figure(fig, [snakemake.output.png, snakemake.output.pdf])
 
-text = "; ".join(f"n = {n}: analytic curve inside the band at {k}/{m} of the t_m in [{t_min:g}, {t_max:g}]"
-                 for n, (k, m) in inside.items())
-short = "analytic curve inside the band at " + ", ".join(f"{k}/{m} (n = {n})" for n, (k, m) in inside.items())
+text, short = temperature_bands_verdict(inside, (t_min, t_max))
 write_json(figure_summary(text, short, inside={str(n): v for n, v in inside.items()}, N=runs[0].N),
               snakemake.output.summary)

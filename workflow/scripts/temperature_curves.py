@@ -3,7 +3,8 @@
 The ensemble mean of the temperature (uncentred estimator (1/3)|v|^2; N ensembles) against t on
 snakemake.params.t_range, one curve per particle number n; the paper's curves lie "from above"
 in the order n = 64, 256, 1024, 4096 and converge as n grows. No analytic solution exists for
-hard spheres. The summary gives T(t_end) of each n with its confidence half-width.
+hard spheres. The summary gives T(t_end) of each n with its confidence half-width and the order
+of the curves (granboltz.reproduction.dsmc_verdicts.temperature_curves_verdict).
 """
 
 import sys
@@ -13,6 +14,7 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 import numpy as np  # noqa: E402
 
 from granboltz.reproduction.dsmc import read_dsmc  # noqa: E402
+from granboltz.reproduction.dsmc_verdicts import temperature_curves_verdict  # noqa: E402
 from granboltz.output.files import write_json  # noqa: E402
 from granboltz.output.plotting import figure_summary, pyplot, save_figure  # noqa: E402
 
@@ -34,12 +36,6 @@ fig.tight_layout()
 save_figure(fig, [snakemake.output.png, snakemake.output.pdf])
 
 end = [(run.n, float(run.T[-1]), float(run.T_ci[-1])) for run in runs]
-gaps = [a[1] - b[1] for a, b in zip(end, end[1:])]
-order, shrink = all(g > 0 for g in gaps), all(g1 > g2 for g1, g2 in zip(gaps, gaps[1:]))
-text = (f"T({runs[0].time[-1]:g}) = " + ", ".join(f"{T:.4f} ± {ci:.4f} (n = {n})" for n, T, ci in end)
-        + ("; decreasing in n (curves from above)" if order else "; not monotone in n at this N")
-        + (", gaps between consecutive n shrinking (convergence)" if shrink else ""))
-short = ("curves ordered from above in n" if order else "curves not ordered in n") + (
-    ", converging" if shrink else "")
+text, short, gaps = temperature_curves_verdict(end, runs[0].time[-1])
 write_json(figure_summary(text, short, T_end={str(n): [T, ci] for n, T, ci in end}, gaps=gaps, N=runs[0].N),
               snakemake.output.summary)

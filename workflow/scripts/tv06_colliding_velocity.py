@@ -4,7 +4,8 @@ right-hand side of a surface moving at v1, Gaussian bath (eq. 12), one curve per
 Analytic (granboltz.theory.colliding_density). The simulator samples this density exactly but does
 not output the sampled velocities, so no histogram is overlaid. Checks: each curve integrates to
 1 (quadrature), and the mass TV06's sampling windows leave out (v in [v1 - 2, v1] for v1 < 0,
-[-3, 3] otherwise, §3.1) is computed for the summary.
+[-3, 3] otherwise, §3.1) is computed for the summary (granboltz.reproduction.tv06_verdicts.
+colliding_velocity_verdict).
 """
 
 import sys
@@ -16,6 +17,7 @@ import numpy as np  # noqa: E402
 from granboltz.output.files import write_csv, write_json  # noqa: E402
 from granboltz.output.plotting import figure_summary, pyplot, save_figure  # noqa: E402
 from granboltz.theory import colliding_density, colliding_mass  # noqa: E402
+from granboltz.reproduction.tv06_verdicts import colliding_velocity_verdict  # noqa: E402
 
 plt = pyplot()
 p = snakemake.params
@@ -44,13 +46,7 @@ fig.tight_layout()
 save_figure(fig, [snakemake.output.png, snakemake.output.pdf])
 write_csv(rows, ["v1", "v", "g_plus"], snakemake.output.csv, digits=10)
 
-miss = ", ".join(f"{m:.1e} (v1 = {v1})" for v1, m in missing.items())
-ours = (f"eq. (12) for v1 = {', '.join(f'{v:g}' for v in p.v1)} (a = {p.a:g}, ρ = {p.rho:g}; the paper does not "
-        f"state a): each density integrates to 1 within {norm_err:.0e} and is sharply peaked next to v1 for v1 < 0, "
-        f"broad for v1 > 0, as in the paper. Analytic curves only: the simulator samples g± exactly (docs/tv06.md, "
-        f"tested there by KS) but does not output the sampled velocities, so no histogram is overlaid. The paper's "
-        f"sampling windows ([v1 − 2, v1] for v1 < 0, [−3, 3] otherwise) leave out the mass {miss}")
-short = f"analytic; ∫g+ dv = 1 within {norm_err:.0e}; no simulator histogram (not an output)"
+ours, short = colliding_velocity_verdict(p.v1, p.a, p.rho, norm_err, missing)
 print(ours, file=sys.stderr)
 write_json(figure_summary(ours, short, normalisation_error=norm_err, window_missing_mass=missing),
               snakemake.output.summary)

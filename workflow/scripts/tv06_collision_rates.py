@@ -3,7 +3,8 @@
 Left: the total rate phi(v1) = phi_+ + phi_- (eq. 16) for each a of params.a (top to bottom as
 a grows, as in the paper); right: phi_+(v1) (solid) and phi_-(v1) (dashed), eq. (15). Closed
 forms (granboltz.theory.gaussian_fluxes), checked against quadrature of eqs. (5)-(6), phi(0) =
-rho/sqrt(pi a) and phi_+ - phi_- = rho v1. The table has every curve on a grid of params.table_step.
+rho/sqrt(pi a) and phi_+ - phi_- = rho v1. The table has every curve on a grid of params.table_step;
+the summary: granboltz.reproduction.tv06_verdicts.collision_rates_verdict.
 """
 
 import sys
@@ -15,6 +16,7 @@ import numpy as np  # noqa: E402
 from granboltz.output.files import write_csv, write_json  # noqa: E402
 from granboltz.output.plotting import figure_summary, pyplot, save_figure  # noqa: E402
 from granboltz.theory import fluxes_by_quadrature, gaussian_fluxes  # noqa: E402
+from granboltz.reproduction.tv06_verdicts import collision_rates_verdict  # noqa: E402
 
 plt = pyplot()
 p = snakemake.params
@@ -49,12 +51,7 @@ fig.tight_layout()
 save_figure(fig, [snakemake.output.png, snakemake.output.pdf])
 write_csv(rows, list(rows[0]), snakemake.output.csv, digits=12)
 
-a_text = ", ".join(f"{a:g}" for a in p.a)
-ours = (f"eqs. (15)–(16) for a = {a_text} (ρ = {p.rho:g}) on v1 ∈ [{lo:g}, {hi:g}]; on the grid of "
-        f"`{snakemake.output.csv}` the closed forms agree with quadrature of eqs. (5)–(6) to {err_quad:.1e} "
-        f"(relative to max(φ±, 1e-8)), φ(0) = ρ/√(πa) to {err_zero:.1e} and φ+ − φ− = ρv1 to {err_diff:.1e}; "
-        "the rates grow like |v1| for large |v1| and fall with a at v1 = 0, top to bottom as in the paper")
-short = f"analytic; closed forms = quadrature of eqs. (5)–(6) to {err_quad:.0e}; φ(0) = ρ/√(πa)"
+ours, short = collision_rates_verdict(p.a, p.rho, (lo, hi), err_quad, err_zero, err_diff, snakemake.output.csv)
 print(ours, file=sys.stderr)
 write_json(figure_summary(ours, short, quadrature_rel_error=err_quad, phi0_rel_error=err_zero,
                                 difference_error=err_diff), snakemake.output.summary)

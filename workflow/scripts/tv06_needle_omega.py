@@ -7,7 +7,7 @@ the moment-matched normal density (variance of the histogram). Left linear, righ
 (the tails). The grey band is the 99.9 % confidence interval of the density over the N ensembles.
 The summary counts the bins whose interval excludes the fitted Gaussian (the deviations the
 paper calls 'apparent'; resolved when that count has binomial p < 0.001 against an exact curve)
-and gives the excess kurtosis.
+and gives the excess kurtosis (granboltz.reproduction.tv06_verdicts.needle_omega_verdict).
 """
 
 import sys
@@ -15,13 +15,13 @@ import sys
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
 import numpy as np  # noqa: E402
-from scipy import stats  # noqa: E402
 
 from granboltz.output.files import write_csv, write_json  # noqa: E402
 from granboltz.output.plotting import figure_summary, pyplot, save_figure  # noqa: E402
-from granboltz.theory import LAMBDA_P, t_coverage  # noqa: E402
+from granboltz.theory import LAMBDA_P  # noqa: E402
 from granboltz.reproduction.tv06_histograms import gaussian_fits  # noqa: E402
 from granboltz.reproduction.tv06_tables import read_tv06  # noqa: E402
+from granboltz.reproduction.tv06_verdicts import needle_omega_verdict  # noqa: E402
 
 plt = pyplot()
 (run,) = [read_tv06(path) for path in snakemake.input.runs]
@@ -50,23 +50,6 @@ axes[1].legend(loc="lower center", fontsize=6)
 fig.tight_layout()
 save_figure(fig, [snakemake.output.png, snakemake.output.pdf])
 
-sel = ci > 0
-out = int(np.sum(np.abs(z[sel]) > LAMBDA_P))
-c = run["config"]
-p_bin = 1 - t_coverage(run["N"])  # chance that a bin's interval misses an exact curve
-expected, p_value = p_bin * sel.sum(), float(stats.binom.sf(out - 1, int(sel.sum()), p_bin))
-resolved = "resolved" if p_value < 1e-3 else "not resolved"
-ours = (f"M = {run['M']:g}, α = {run['alpha']:g}, N = {run['N']} × {run['collisions']} = "
-        f"{run['N'] * run['collisions']:,} collisions (L = {c.get('length', 1):g}, a = {c.get('a', 1):g}): fitted "
-        f"Gaussian width s = {g['s_fit']:.4f}, moment-matched σ = {g['s_moments']:.4f}, excess kurtosis "
-        f"{g['excess_kurtosis']:+.3f} (0 for a Gaussian); the fitted Gaussian lies outside the 99.9 % CI at {out}/"
-        f"{int(sel.sum())} bins ({expected:.1f} expected if it were exact; binomial p = {p_value:.1e}, bins taken as "
-        f"independent): deviations {resolved} at this size (the paper: they become apparent for a light needle "
-        f"and strong inelasticity). "
-        f"Numbers: `{snakemake.output.csv}`")
-short = (f"deviations from the best-fit Gaussian {resolved}: outside the CI at {out}/{int(sel.sum())} bins; "
-         f"excess kurtosis {g['excess_kurtosis']:+.3f}")
+_, ours, short, numbers = needle_omega_verdict(run, g, z, ci, snakemake.output.csv)
 print(ours, file=sys.stderr)
-write_json(figure_summary(ours, short, s_fit=g["s_fit"], s_moments=g["s_moments"],
-                                excess_kurtosis=g["excess_kurtosis"], bins_outside=out, bins=int(sel.sum())),
-              snakemake.output.summary)
+write_json(figure_summary(ours, short, **numbers), snakemake.output.summary)

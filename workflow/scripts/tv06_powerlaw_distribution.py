@@ -4,6 +4,7 @@ the exact solution at alpha = M dashed: the intruder takes the colliding velocit
 distribution is the bath's f(v, a) itself (T = M <v1^2> = alpha T_B); it is checked bin by bin
 (granboltz.reproduction.tv06_histograms.histogram_check, |v1| <= check_range). Right (the paper's inset):
 log-log density of |v1| with a v^-4 guide; least-squares exponents on tail_window (theory -4).
+Summary: granboltz.reproduction.tv06_verdicts.powerlaw_distribution_verdict.
 """
 
 import sys
@@ -14,9 +15,10 @@ import numpy as np  # noqa: E402
 
 from granboltz.output.files import write_csv, write_json  # noqa: E402
 from granboltz.output.plotting import figure_summary, pyplot, save_figure  # noqa: E402
-from granboltz.theory import exact_temperature_ratio, powerlaw_pdf, t_coverage  # noqa: E402
+from granboltz.theory import exact_temperature_ratio, powerlaw_pdf  # noqa: E402
 from granboltz.reproduction.tv06_histograms import folded_tail, histogram_check, rebin, tail_exponent  # noqa: E402
 from granboltz.reproduction.tv06_tables import read_tv06  # noqa: E402
+from granboltz.reproduction.tv06_verdicts import powerlaw_distribution_verdict  # noqa: E402
 
 plt = pyplot()
 p = snakemake.params
@@ -64,19 +66,6 @@ fig.colorbar(plt.cm.ScalarMappable(cmap=cmap, norm=plt.Normalize(0, 1)), ax=[lef
 save_figure(fig, [snakemake.output.png, snakemake.output.pdf])
 write_csv(rows, ["alpha", "panel", "v", "density", "ci", "samples", "exact"], snakemake.output.csv, digits=6)
 
-b = np.array([f["exponent"] for f in fits.values()])
-window = f"[{p.tail_window[0]:g}, {p.tail_window[1]:g}]"
-ours = (f"tail exponents on |v1| ∈ {window}: {b.min():.2f} to {b.max():.2f} (mean {b.mean():.2f}; "
-        + ", ".join(f"α = {k}: {f['exponent']:.2f} ± {f['stderr']:.2f}" for k, f in fits.items())
-        + "; ± least-squares standard errors, which ignore the correlation of the time samples); the peak "
-        + ("falls monotonically as α grows (top to bottom), as in the paper" if np.all(np.diff(peaks) < 0) else
-           "does not fall monotonically with α: " + ", ".join(f"{x:.3f}" for x in peaks)))
-if check:
-    ours += (f". Exact solution at α = M = {check['alpha']:g} (the bath's own f, T = αT_B): {check['within']}/"
-             f"{check['bins']} bins within their 99.9 % CI (expected fraction {t_coverage(runs[0]['N']):.3f} "
-             f"with N = {runs[0]['N']}), largest |z| {check['max_z']:.1f}")
-short = f"tail exponents {b.min():.2f} … {b.max():.2f} (theory −4)" + (
-    f"; α = M: {check['within']}/{check['bins']} bins within CI of the exact f" if check else "")
+ours, short = powerlaw_distribution_verdict(fits, peaks, check, p.tail_window, runs[0]["N"], snakemake.output.csv)
 print(ours, file=sys.stderr)
-write_json(figure_summary(ours + f". Numbers: `{snakemake.output.csv}`", short, exponents=fits, check=check),
-              snakemake.output.summary)
+write_json(figure_summary(ours, short, exponents=fits, check=check), snakemake.output.summary)

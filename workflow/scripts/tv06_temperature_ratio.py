@@ -4,7 +4,7 @@ exact curve of Martin and Piasecki, eq. (18), T/T_B = (1 + alpha)/(2 + (1 - alph
 Symbols: the mean over the N ensembles with its 99.9 % confidence interval (the simulator's
 ci = 3.2 sqrt(var/N)); solid curve: eq. (18). The table (granboltz.reproduction.tv06_tables.temperature_rows) has every
 point with the exact value, z = (mean - exact)/(ci/3.2) and whether the exact value is within
-the ci; the summary counts those.
+the ci; the summary counts those (granboltz.reproduction.tv06_verdicts.temperature_ratio_verdict).
 """
 
 import sys
@@ -15,7 +15,8 @@ import numpy as np  # noqa: E402
 
 from granboltz.output.files import write_csv, write_json  # noqa: E402
 from granboltz.output.plotting import figure_summary, pyplot, save_figure  # noqa: E402
-from granboltz.theory import gaussian_temperature_ratio, t_coverage  # noqa: E402
+from granboltz.theory import gaussian_temperature_ratio  # noqa: E402
+from granboltz.reproduction.tv06_verdicts import temperature_ratio_verdict  # noqa: E402
 from granboltz.reproduction.tv06_tables import read_tv06, TEMPERATURE_COLUMNS, temperature_rows  # noqa: E402
 
 plt = pyplot()
@@ -41,17 +42,6 @@ ax.legend(loc="upper left")
 fig.tight_layout()
 save_figure(fig, [snakemake.output.png, snakemake.output.pdf])
 
-N, n_col = rows[0]["N"], rows[0]["collisions"]
-inside = sum(r["within_ci"] == "yes" for r in rows)
-worst = max(rows, key=lambda r: abs(r["z"]))
-cover = t_coverage(N)
-ours = (f"{inside}/{len(rows)} points within their 99.9 % confidence interval of eq. (18) (N = {N} ensembles × "
-        f"{n_col} collisions per point; largest deviation {worst['deviation']:+.5f} = {worst['z']:+.1f}σ at "
-        f"α = {worst['alpha']:g}). With N = {N} estimated variances each interval covers with probability "
-        f"P(|t_{N - 1}| ≤ 3.2·√({N - 1}/{N})) = {cover:.3f}, so all {len(rows)} inside is expected with probability "
-        f"{cover ** len(rows):.2f}. Numbers: `{snakemake.output.csv}`")
-verdict = "agrees" if inside == len(rows) else f"{len(rows) - inside} point(s) outside"
-short = f"{verdict}: {inside}/{len(rows)} points within the CI of eq. (18) (max {abs(worst['z']):.1f}σ)"
+_, ours, short, numbers = temperature_ratio_verdict(rows, snakemake.output.csv)
 print(ours, file=sys.stderr)
-write_json(figure_summary(ours, short, inside=inside, points=len(rows), max_abs_z=abs(worst["z"]),
-                                coverage_per_point=cover), snakemake.output.summary)
+write_json(figure_summary(ours, short, **numbers), snakemake.output.summary)

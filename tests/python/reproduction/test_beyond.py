@@ -2,6 +2,8 @@
 
 import math
 
+import numpy as np
+
 from granboltz.reproduction import beyond
 from granboltz.report.beyond import compare_beyond_a2, compare_beyond_haff, compare_beyond_tail
 from granboltz.report.document import build_document
@@ -82,3 +84,30 @@ def test_report_section_renders_with_its_verdicts():
     doc = build_document(items, data, "cfg", machine, "quick")
     assert ("h", 2, "Beyond the papers") in doc
     assert sum(1 for b in doc if b[0] == "h" and b[1] == 3) >= 3
+
+
+def test_haff_item_verdict_joins_both_kernels_and_fails_with_either():
+    good = [{"kernel": "maxwell", "T": 1.0, "z": 1.0}, {"kernel": "maxwell", "T": 1e-3, "z": 2.0},
+            {"kernel": "hard_spheres", "T": 1.0, "z": 0.5}, {"kernel": "hard_spheres", "T": 1e-2, "z": 1.5}]
+    ok, text, short = beyond.haff_item_verdict(good)
+    assert ok and text.startswith("maxwell: agrees within the statistics over 3.0 decades")
+    assert "; hard spheres: agrees" in text
+    assert short == "agrees within the statistics (maxwell max 2.0σ, 2 times; hard spheres max 1.5σ, 2 times)"
+    bad = good[:3] + [{"kernel": "hard_spheres", "T": 1e-2, "z": 3.3}]  # one observation beyond Z
+    ok, text, short = beyond.haff_item_verdict(bad)
+    assert not ok and "hard spheres: differs" in text and short.startswith("differs (maxwell")
+    assert beyond.haff_item_verdict(good[:2])[2] == "agrees within the statistics (maxwell max 2.0σ, 2 times)"
+
+
+def test_tail_item_verdict_from_the_local_exponents():
+    def res(b, ci):
+        return {"r": np.array([2.0, 5.0, 8.0]), "b": np.array([2.0, 1.5, b]), "ci_b": np.array([0.01, 0.05, ci]),
+                "at_bound": np.array([False, False, False])}
+    ok, kind, text, short, far = beyond.tail_item_verdict(res(1.05, 0.1), 0.15)
+    assert ok and kind == "agrees" and far == {"r": 8.0, "value": 1.05, "ci": 0.1}
+    assert short == "agrees: consistent with b = 1 (b = 1.05 ± 0.10)" and text.startswith("agrees")
+    ok, kind, text, short, far = beyond.tail_item_verdict(res(1.4, 0.1), 0.15)  # outside its band: not reached
+    assert not ok and kind == "approximation" and text.startswith("still above b = 1")
+    assert short.startswith("not yet asymptotic") and short.endswith("(b = 1.40 ± 0.10)")
+    ok, kind, text, short, far = beyond.tail_item_verdict(res(1.0, 0.5), 0.001)  # no window narrow enough
+    assert (ok, kind, far) == (False, "approximation", None) and text == "no window measures b to ±0.001"

@@ -83,3 +83,19 @@ def test_disk_report_comparison_recomputes_the_judgement_from_the_table():
     body = blocks[0][2]
     assert [line[9] for line in body] == ["not judged: between, position 0.00", "agrees", "agrees"]
     assert body[2][14] == "agrees" and body[0][14] == "–"
+
+
+def test_disk_summary_verdict_joins_the_thermostats():
+    vne, s2, s3 = disks.disk_references("gaussian", 0.8)
+    wv, _, w3 = disks.disk_references("white_noise", 0.8)
+    T = disks.disk_steady_temperature(0.8, 1.0, 1.0, 1 / (2 * math.pi), wv, n=2000)
+    white = _disk_run("white_noise", 0.8, wv, w3, T=T)
+    good = disks.disk_a2_rows([_disk_run("gaussian", 0.8, vne, s3), white], 0.01)
+    ok, kind, text, short = disks.disk_summary_verdict(good)
+    assert ok and kind == "approximation" and text.startswith("gaussian: agrees")
+    assert "; white noise: agrees" in text and short.startswith("compared with approximations: HCS:")
+    far = disks.disk_a2_rows([_disk_run("gaussian", 0.8, vne + 0.05, s3), white], 0.01)  # beyond ci + tol
+    ok, kind, text, short = disks.disk_summary_verdict(far)
+    assert not ok and kind == "approximation" and text.startswith("gaussian: differs at α = 0.8")
+    assert "outside the allowance" in short
+    assert not disks.disk_summary_verdict(good[:1])[0]  # a thermostat without runs: not shown to agree

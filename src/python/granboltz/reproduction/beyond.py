@@ -12,6 +12,7 @@ import math
 
 import numpy as np
 
+from ..analysis.local_exponent import far_estimate
 from ..theory.dimension import dsmc_geometry, initial_temperature
 from ..theory.sonine import hcs_moment_threshold, maxwell_a3, second_sonine
 from ..theory import LAMBDA_P
@@ -117,6 +118,17 @@ def haff_verdict(rows, kernel):
     return ok, f"{word} over {decades:.1f} decades of T (max {worst:.1f}σ, {len(mine)} times)"
 
 
+def haff_item_verdict(rows):
+    """(ok, text, short) of the Haff item: haff_verdict of each kernel with rows (Maxwell molecules,
+    then hard spheres), ok when both agree; short gives each kernel's decades and largest sigma."""
+    verdicts = {k: haff_verdict(rows, k) for k in ("maxwell", "hard_spheres") if any(r["kernel"] == k for r in rows)}
+    ok = all(v[0] for v in verdicts.values())
+    text = "; ".join(f"{k.replace('_', ' ')}: {t}" for k, (_, t) in verdicts.items())
+    short = ("agrees within the statistics" if ok else "differs") + " (" + "; ".join(
+        f"{k.replace('_', ' ')} {t.split('(')[-1].rstrip(')')}" for k, (_, t) in verdicts.items()) + ")"
+    return ok, text, short
+
+
 def a2_agrees(row, rel_tol, abs_floor):
     """Whether a2 agrees with its reference.  Exact references (Maxwell): within the statistics
     (z <= Z).  First-Sonine references: |a2 - theory| <= ci + tol with tol = rel_tol |theory|, or
@@ -194,3 +206,19 @@ def tail_verdict(far, b_expected=1.0):
         return True, f"agrees: consistent with b = {b_expected:g}: {text}"
     side = "still above" if far["value"] > b_expected else "below"
     return False, f"{side} b = {b_expected:g} where the data end: {text}"
+
+
+def tail_item_verdict(res, max_ci, b_expected=1.0):
+    """(ok, kind, text, short, far) of the HCS tail item from the local exponents res
+    (analysis.local_exponent.local_exponent): tail_verdict of the outermost window that measures b
+    to +-max_ci (far, None where none does).  Where b = 1 is not reached the constant weights end
+    before the asymptotic tail: an approximation, not a failure."""
+    try:
+        far = far_estimate(res, max_ci=max_ci)
+        ok, text = tail_verdict(far, b_expected)
+    except ValueError:
+        far, ok, text = None, False, f"no window measures b to ±{max_ci}"
+    short = (f"agrees: consistent with b = {b_expected:g}" if ok else
+             f"not yet asymptotic where constant weights end (b = {b_expected:g} holds only far out)") + (
+        f" (b = {far['value']:.2f} ± {far['ci']:.2f})" if far else "")
+    return ok, "agrees" if ok else "approximation", text, short, far

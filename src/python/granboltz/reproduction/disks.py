@@ -135,3 +135,13 @@ def disk_item_verdict(rows):
                 f"α = {r['alpha']:g}: position {r['position']:.2f}" for r in parted) + " (0: second Sonine, 1: vNE)"
         parts.append(text)
     return "approximation", "compared with approximations: " + "; ".join(parts)
+
+
+def disk_summary_verdict(rows):
+    """(ok, kind, text, short) of the hard-disk item: the text joins disk_a2_verdict of each
+    thermostat (ok when both hold), the kind and short are disk_item_verdict's."""
+    verdicts = {t: disk_a2_verdict(rows, t) for t in ("gaussian", "white_noise")}
+    ok = all(v[0] for v in verdicts.values())
+    text = "; ".join(f"{t.replace('_', ' ')}: {v}" for t, (_, v) in verdicts.items())
+    kind, short = disk_item_verdict(rows)
+    return ok, kind, text, short
