@@ -8,7 +8,7 @@ constant weights and once per SWPM setting, and reports the CPU seconds (user + 
 simulator) and the depth reached: the smallest f(r)/f(0) of a shell whose relative confidence
 half-width is below 30 % (granboltz.analysis.tail_swpm.resolved_depth), with decades of depth per CPU minute.
 The SWPM runs split along the diffusion path (dsmc.weights.split) with the theory tail as
-importance function and the workflow's r_s (config/paper.yaml grw05.tails.swpm).
+importance function and the workflow's r_s (config/physics.yaml grw05.tails.swpm).
 
     bench/tail_depth.py [--granboltz build/granboltz] [--examples 7 8 9] [--csv out.csv]
                         [--constant n:N ...] [--swpm kappa:max_particles:n:N ...] [--no-split]
@@ -32,7 +32,7 @@ from granboltz.analysis.tail_swpm import resolved_depth  # noqa: E402
 from granboltz.theory.tail_theory import importance_split  # noqa: E402
 
 # GRW05 §5.3: lambda, t_end (the paper's), histogram radius R (128 shells) and split radius r_s of
-# config/paper.yaml grw05.tails.swpm
+# config/physics.yaml grw05.tails.swpm
 EXAMPLES = {7: (0.0, 2.5, 130.0, 16.0), 8: (1.0, 0.25, 34.0, 7.5), 9: (0.5, 0.5, 60.0, 10.0)}
 BETA, GAMMA, C = 30.0, 16.0, 0.07957747154594767
 ROWS = 20

@@ -23,6 +23,22 @@ sys.path.insert(0, str(ROOT / "src" / "python"))
 
 from granboltz.theory import scheme_temperature, uncentred_expectation
 
+def merge_config(base, over):
+    """over merged into base as Snakemake merges config files: dicts key by key, lists replaced."""
+    for key, value in over.items():
+        if isinstance(value, dict) and isinstance(base.get(key), dict):
+            merge_config(base[key], value)
+        else:
+            base[key] = value
+    return base
+
+
+def load_config(profile):
+    """The workflow's config of a profile: config/physics.yaml with config/<profile>.yaml over it."""
+    physics = yaml.safe_load((ROOT / "config" / "physics.yaml").read_text())
+    return merge_config(physics, yaml.safe_load((ROOT / "config" / f"{profile}.yaml").read_text()))
+
+
 # GRW05 Example 3 (§5.2): T(t) = e^{-3t/4} + 8/3 (1 - e^{-3t/4}), eq. (34)
 EX3 = {"alpha": 0.5, "beta": 1.0, "gamma": 4.0, "kernel": {"lambda": 0, "C": 1 / (4 * np.pi)}}
 

@@ -1,4 +1,5 @@
-"""The profiles config/quick.yaml and config/paper.yaml against workflow/schemas/config.schema.yaml."""
+"""The config: config/physics.yaml with a size profile (config/quick.yaml, config/paper.yaml) merged
+over it, against workflow/schemas/config.schema.yaml."""
 
 import copy
 import math
@@ -9,14 +10,46 @@ import yaml
 from snakemake.exceptions import WorkflowError
 from snakemake.utils import validate
 
-from conftest import ROOT
+from conftest import ROOT, load_config
 
 SCHEMA = str(ROOT / "workflow" / "schemas" / "config.schema.yaml")
 PROFILES = ["quick", "paper"]
+FILES = ["physics"] + PROFILES
+
+# The keys a profile sets, and the only ones in which quick and paper may differ: the sizes (n, N,
+# shards, collisions, t_end, replicas, rows, K and alpha lists: how many runs) and what the
+# smaller size forces (fit windows, steady windows, time grids, the HCS tail run): listed in
+# docs/workflow.md, "Profiles". Each stands as ~ in physics.yaml, in its place.
+SIZE_KEYS = {
+    "profile", "report_dir",
+    *(f"grw05.{ex}.{k}" for ex in ("ex3", "ex4") for k in ("particles", "ensembles")),
+    *(f"grw05.{ex}.{k}" for ex in ("ex7", "ex8", "ex9") for k in ("particles", "ensembles", "shards")),
+    "grw05.tails.fit_window", "grw05.tails.windows",
+    *(f"grw05.tails.swpm.{k}" for k in ("max_particles", "particles", "ensembles", "rows")),
+    "rw05.transient.particles", "rw05.transient.ensembles", "rw05.timestep.ensembles", "rw05.fig2.particles",
+    "rw05.crit.ensembles", "rw05.crit_schemes.ensembles", "rw05.steady.euler_steps", "rw05.steady.replicas",
+    *(f"tv06.{fig}.collisions" for fig in ("fig3", "fig4", "fig7", "fig8", "sec4")), "tv06.fig5.tail_window",
+    "beyond.haff.particles", "beyond.haff.ensembles",
+    "beyond.a2.alphas", "beyond.a2.particles", "beyond.a2.t_end",
+    *(f"beyond.tail.{k}" for k in ("alpha", "ensembles", "shells", "radius", "max_ci")),
+    "beyond.hcs_tail_swpm.ensembles",
+    *(f"beyond.viscoelastic.{k}" for k in ("particles", "ensembles", "t_end", "observe_every", "late_from")),
+    "beyond.viscoelastic.elastic.ensembles",
+    *(f"beyond.disks_a2.{k}" for k in ("alphas", "particles", "ensembles", "t_end")),
+    *(f"beyond.{x}.{k}" for x in ("mixture", "rough") for k in ("particles", "ensembles", "t_end", "steady_from")),
+    "beyond.rough.white_noise_alphas",
+    *(f"transport.relaxation.{k}" for k in ("disk_alphas", "particles", "ensembles")),
+    *(f"transport.usf.{k}" for k in ("maxwell_alphas", "alphas", "free_alphas", "particles", "ensembles", "t_end")),
+    *(f"transport.green_kubo.{k}" for k in ("alphas", "disk_alphas", "ensembles", "t_end", "observe_every")),
+}
 
 
 def load(profile):
-    return yaml.safe_load((ROOT / "config" / f"{profile}.yaml").read_text())
+    return load_config(profile)
+
+
+def read(name):
+    return yaml.safe_load((ROOT / "config" / f"{name}.yaml").read_text())
 
 
 @pytest.mark.parametrize("profile", PROFILES)
@@ -24,22 +57,39 @@ def test_profile_is_valid(profile):
     validate(load(profile), SCHEMA)
 
 
-def _keys(d, prefix=""):
+def _leaves(d, prefix=""):
+    """{dotted key: value} of every value that is not a dict."""
+    out = {}
     for k, v in d.items():
-        yield prefix + k
         if isinstance(v, dict):
-            yield from _keys(v, prefix + k + ".")
-
-
-def test_profiles_have_the_same_keys():
-    assert sorted(_keys(load("quick"))) == sorted(_keys(load("paper")))
+            out.update(_leaves(v, prefix + k + "."))
+        else:
+            out[prefix + k] = v
+    return out
 
 
 @pytest.mark.parametrize("profile", PROFILES)
-def test_every_key_of_a_profile_is_commented(profile):
-    for line in (ROOT / "config" / f"{profile}.yaml").read_text().splitlines():
+def test_a_profile_sets_the_size_keys_and_nothing_else(profile):
+    assert set(_leaves(read(profile))) == SIZE_KEYS
+
+
+def test_physics_leaves_the_size_keys_to_the_profiles():
+    physics = _leaves(read("physics"))
+    assert {k for k, v in physics.items() if v is None} == SIZE_KEYS
+
+
+def test_quick_and_paper_differ_only_in_size_keys():
+    """A physics value cannot drift between the profiles: the merged configs differ in sizes only."""
+    quick, paper = _leaves(load("quick")), _leaves(load("paper"))
+    assert set(quick) == set(paper)
+    assert {k for k in quick if quick[k] != paper[k]} <= SIZE_KEYS
+
+
+@pytest.mark.parametrize("name", FILES)
+def test_every_key_of_a_config_file_is_commented(name):
+    for line in (ROOT / "config" / f"{name}.yaml").read_text().splitlines():
         if re.match(r"\s*[A-Za-z_0-9]+:", line):
-            assert "#" in line, f"{profile}.yaml: key without a comment: {line!r}"
+            assert "#" in line, f"{name}.yaml: key without a comment: {line!r}"
 
 
 def test_paper_profile_has_the_sizes_of_the_papers():

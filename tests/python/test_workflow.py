@@ -7,7 +7,7 @@ import subprocess
 import pytest
 import yaml
 
-from conftest import ROOT
+from conftest import ROOT, load_config
 
 SNAKEMAKE = ["/usr/bin/snakemake", "--snakefile", "workflow/Snakefile", "--cores", "2", "--nolock"]
 
@@ -61,7 +61,7 @@ def expected_runs(config):
 
 @pytest.mark.parametrize("profile", ["quick", "paper"])
 def test_dry_run_plans_every_job(profile):
-    config = yaml.safe_load((ROOT / "config" / f"{profile}.yaml").read_text())
+    config = load_config(profile)
     result = snakemake("--configfile", f"config/{profile}.yaml", "-n", "--forceall")
     assert result.returncode == 0, result.stderr + result.stdout
     counts = job_counts(result.stdout)
@@ -109,8 +109,14 @@ def test_dry_run_succeeds(profile):
     assert result.returncode == 0, result.stderr + result.stdout
 
 
+def test_physics_without_a_profile_names_the_unset_sizes():
+    result = snakemake("--configfile", "config/physics.yaml", "-n")
+    assert result.returncode != 0
+    assert "grw05.ex3.particles" in result.stderr + result.stdout and "profile" in result.stderr + result.stdout
+
+
 def test_workflow_refuses_a_bad_profile(tmp_path):
-    config = yaml.safe_load((ROOT / "config" / "quick.yaml").read_text())
+    config = load_config("quick")
     config["grw05"]["ex3"]["alpha"] = 2.0
     bad = tmp_path / "bad.yaml"
     bad.write_text(yaml.safe_dump(config))
@@ -162,7 +168,7 @@ def test_rw05_run_configs_carry_scheme_steps_and_steady_keys(tmp_path):
 
 
 def test_hard_disk_run_configs_are_two_dimensional_with_their_own_seeds(tmp_path):
-    config = yaml.safe_load((ROOT / "config" / "quick.yaml").read_text())
+    config = load_config("quick")
     disks = config["beyond"]["disks_a2"]
     alpha, N, n = disks["alphas"][0], disks["ensembles"], disks["particles"]
     targets = {th: f"results/beyond/{th}/{kernel}/alpha={alpha}/N={N}/n={n}/run.yaml"
@@ -199,7 +205,7 @@ def snakemake_config_text(tmp_path):
     (lambda c: c["transport"]["usf"].update(steady_from=1000), "transport.usf"),
 ])
 def test_workflow_checks_keys_across_the_config(tmp_path, spoil, message):
-    config = yaml.safe_load((ROOT / "config" / "quick.yaml").read_text())
+    config = load_config("quick")
     spoil(config)
     bad = tmp_path / "bad.yaml"
     bad.write_text(yaml.safe_dump(config))
@@ -208,7 +214,7 @@ def test_workflow_checks_keys_across_the_config(tmp_path, spoil, message):
 
 
 def test_mixture_and_rough_run_configs(tmp_path):
-    config = yaml.safe_load((ROOT / "config" / "quick.yaml").read_text())
+    config = load_config("quick")
     mix, rough = config["beyond"]["mixture"], config["beyond"]["rough"]
     m, a = mix["mass_ratios"][-1], mix["alphas"][0]
     b, ra = rough["tangential_betas"][-1], rough["hcs_alphas"][0]
@@ -240,7 +246,7 @@ def test_transport_run_configs(tmp_path):
     """Prepared states, shear and schemes of the transport runs: a prepared T_xy (d = 2 and 3) or
     heat flux under the Gaussian thermostat; lambda = 0 with the exact map; thermostatted hard-sphere
     shear with the Strang scheme at a* nu0; free hard-sphere shear without thermostat."""
-    config = yaml.safe_load((ROOT / "config" / "quick.yaml").read_text())
+    config = load_config("quick")
     t = config["transport"]
     rx, us = t["relaxation"], t["usf"]
     ra, ua = rx["alphas"][0], us["alphas"][0]

@@ -330,7 +330,7 @@ def test_dsmc_table_refuses_a_run_of_the_wrong_method(run_script, tmp_path):
 # ----------------------------------------------------------------------------- workflow
 def test_tv06_run_configs_carry_the_parameters(tmp_path):
     from test_workflow import snakemake
-    from conftest import ROOT
+    from conftest import ROOT, load_config
 
     targets = {
         "fig4": "results/tv06/fig4/M=0.5/alpha=0.3/N=4/collisions=1000/run.yaml",
@@ -341,7 +341,7 @@ def test_tv06_run_configs_carry_the_parameters(tmp_path):
                        *targets.values())
     assert result.returncode == 0, result.stderr
     run = {k: yaml.safe_load((tmp_path / t).read_text()) for k, t in targets.items()}
-    tv06 = yaml.safe_load((ROOT / "config" / "quick.yaml").read_text())["tv06"]
+    tv06 = load_config("quick")["tv06"]
     i = run["fig4"]["intruder"]
     assert run["fig4"]["model"] == "intruder" and run["fig4"]["ensembles"] == 4
     assert (i["bath"], i["mass"], i["alpha"], i["collisions"], i["method"]) == (
@@ -363,9 +363,9 @@ def test_tv06_run_configs_carry_the_parameters(tmp_path):
 ])
 def test_workflow_checks_the_tv06_keys(tmp_path, spoil, message):
     from test_workflow import snakemake
-    from conftest import ROOT
+    from conftest import load_config
 
-    config = yaml.safe_load((ROOT / "config" / "quick.yaml").read_text())
+    config = load_config("quick")
     spoil(config["tv06"])
     bad = tmp_path / "bad.yaml"
     bad.write_text(yaml.safe_dump(config))
