@@ -203,6 +203,12 @@ def test_report_contains_every_item_and_the_html_is_self_contained(run_script, t
     assert sorted(r[3].strip() for r in rows) == sorted({f"`{it['rule']}`" for it in items})
     tv06 = [r for r in rows if r[0].strip() == "TV06"]
     assert len(tv06) == 1 and "(#tv06-fig-1)" in tv06[0][1] and "[table](#tv06-fig-1-data)" in tv06[0][1]
+    # and the Snakemake report's captions: one per item (rule), each from the item's descriptions
+    captions = md.parent / "captions"
+    assert sorted(p.name for p in captions.iterdir()) == sorted({f"{it['rule']}.rst" for it in items})
+    for it in items:
+        caption = (captions / f"{it['rule']}.rst").read_text()
+        assert f"— {it['what']}." in caption and f"Made by rule ``{it['rule']}``." in caption
     assert "agrees" in text and "granboltz 0.1.0 (commit `abc123`)" in text
     assert text.count("![") == 2 and page.count("data:image/png;base64,") == 2
     # the report directory stands alone: every image it links to is copied beside it
