@@ -3,6 +3,8 @@ paper/reproduction.md (for a code host) and paper/reproduction.html (self-contai
 as base64 data URIs, inline CSS, no external reference), both rendered from one document
 (granboltz.report.build_document): published numbers and ours side by side with confidence
 intervals, convergence factors and verdicts, every figure with its caption, provenance.
+Also the captions of the Snakemake report (snakemake --report), one per item from its registered
+description: <report_dir>/captions/<rule>.rst, which the report() outputs of the rule files name.
 """
 
 import sys
@@ -17,6 +19,7 @@ import shutil  # noqa: E402
 from granboltz.output.files import read_csv, write_text  # noqa: E402
 from granboltz.output.io import open_run, run_attrs  # noqa: E402
 from granboltz.report import build_document, render_html, render_md  # noqa: E402
+from granboltz.report.captions import item_captions  # noqa: E402
 
 inp, items = snakemake.input, snakemake.params.manifest
 available = set(inp)
@@ -62,6 +65,12 @@ for directory, paths in ((snakemake.output.figures, inp.figures),
         for p in [path] + ([path[:-4] + ".pdf"] if path.endswith(".png") else []):
             if os.path.exists(p):
                 shutil.copyfile(p, os.path.join(directory, os.path.basename(p)))
+# Rewritten whole, so that a caption of a rule no longer in the workflow does not linger.
+captions = os.path.join(os.path.dirname(snakemake.output.md), "captions")
+shutil.rmtree(captions, ignore_errors=True)
+os.makedirs(captions)
+for rule, text in item_captions(items).items():
+    write_text(text, os.path.join(captions, f"{rule}.rst"))
 write_text(render_md(doc, image_prefix=""), snakemake.output.md)
 write_text(render_html(doc, read_image, "Reproduction of GRW05, RW05 and TV06"), snakemake.output.html)
 print(f"{len(items)} items, {len(data['runs'])} runs, {len(doc)} blocks", file=sys.stderr)

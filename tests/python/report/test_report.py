@@ -92,9 +92,10 @@ def synthetic_report_inputs(tmp_path):
     read = [read_dsmc(p) for p in runs]
     items, tables = [], {}
 
-    def item(paper, name, kind, output, compare=None, published=None, summary=None, extra=(), run_paths=()):
+    def item(paper, name, kind, output, compare=None, published=None, summary=None, extra=(), run_paths=(),
+             rule=None):
         bench = [_bench(tmp_path, f"b{len(items)}", 1.5)]
-        items.append({"paper": paper, "item": name, "rule": f"rule_{len(items)}", "kind": kind, "output": output,
+        items.append({"paper": paper, "item": name, "rule": rule or f"rule_{len(items)}", "kind": kind, "output": output,
                       "what": f"what {name}", "runs": [str(p) for p in run_paths], "benchmarks": bench,
                       "compare": compare, "published": str(pub / f"{published}.csv") if published else None,
                       "summary": summary, "extra": list(extra)})
@@ -132,8 +133,17 @@ def synthetic_report_inputs(tmp_path):
     item("GRW05", "Fig. 1", "figure", png, summary=summary, run_paths=runs[:2])
     png, summary = _figure(tmp_path, "tv06_fig1")
     item("TV06", "Fig. 1", "figure", png, summary=summary)
-    item("TV06", "Fig. 1 data", "table", _write_csv([{"a": 0.5, "phi": 1.2}], ["a", "phi"], tmp_path / "tv06_fig1.csv"))
+    # a figure and its data table from one rule: one item of the summary, two sections
+    item("TV06", "Fig. 1 data", "table", _write_csv([{"a": 0.5, "phi": 1.2}], ["a", "phi"], tmp_path / "tv06_fig1.csv"),
+         rule=items[-1]["rule"])
     return items
+
+
+def summary_table(text):
+    """The rows of the summary table of a Markdown report, split into cells."""
+    block = text.split("\n## Summary\n", 1)[1].split("\n## ", 1)[0]
+    lines = [line for line in block.splitlines() if line.startswith("| ")]
+    return [re.split(r"(?<!\\)\|", line.strip("| "))[:4] for line in lines[1:]]  # [0]: the header
 
 
 def test_report_contains_every_item_and_the_html_is_self_contained(run_script, tmp_path):
@@ -187,6 +197,18 @@ def test_report_contains_every_item_and_the_html_is_self_contained(run_script, t
         assert f"`{it['rule']}`" in text
         assert re.sub(r"^### ", "", heading) in page
     assert "## TV06" in text and "not in the workflow yet" not in text  # TV06 items registered here
+    # the summary lists each item once: a figure and its table (one rule) share a row naming both
+    rows = summary_table(text)
+    assert len(rows) == len({(it["paper"], it["rule"]) for it in items}) == len(items) - 1
+    assert sorted(r[3].strip() for r in rows) == sorted({f"`{it['rule']}`" for it in items})
+    tv06 = [r for r in rows if r[0].strip() == "TV06"]
+    assert len(tv06) == 1 and "(#tv06-fig-1)" in tv06[0][1] and "[table](#tv06-fig-1-data)" in tv06[0][1]
+    # and the Snakemake report's captions: one per item (rule), each from the item's descriptions
+    captions = md.parent / "captions"
+    assert sorted(p.name for p in captions.iterdir()) == sorted({f"{it['rule']}.rst" for it in items})
+    for it in items:
+        caption = (captions / f"{it['rule']}.rst").read_text()
+        assert f"— {it['what']}." in caption and f"Made by rule ``{it['rule']}``." in caption
     assert "agrees" in text and "granboltz 0.1.0 (commit `abc123`)" in text
     assert text.count("![") == 2 and page.count("data:image/png;base64,") == 2
     # the report directory stands alone: every image it links to is copied beside it

@@ -9,8 +9,9 @@ A document is a list of blocks (tuples):
   ("code", text)            preformatted text
 
 Modules: numbers (formatting, σ-distances, verdicts), render (Markdown, HTML), latex, the
-comparisons of each kind of table (convergence, steady, tails, tv06) and document (one function
-per report section, build_document). The names below are re-exported for convenience.
+comparisons of each kind of table (convergence, steady, tails, tv06), summary (one summary row
+per item) and document (one function per report section, build_document). The names below are
+re-exported for convenience.
 """
 
 from .convergence import compare_convergence, compare_rw05_table1, compare_rw05_table2

@@ -8,7 +8,7 @@ from ..reproduction.disks import FINITE_N, GAP_FACTOR, disk_a2_verdict, disk_ite
 from ..reproduction.mixtures import mixture_verdict
 from ..reproduction.rough import rough_verdict
 from ..reproduction.viscoelastic import KAPPA, short_verdict, viscoelastic_verdict
-from .numbers import DASH, Verdict, fl, marked, num, pm
+from .numbers import DASH, Verdict, fl, num, pm
 
 BEYOND = "Beyond the papers"
 INTRO = ("Two classic set-ups besides the papers' white-noise heating (docs/config.md, Thermostats): free "
@@ -263,11 +263,11 @@ def compare_beyond_rough(name, ours, published=None, **_):
 def beyond_section(items, data, item_blocks):
     """The section "Beyond the papers": intro and every item registered under that name (figures
     with their summaries, tables with their comparisons); returns (blocks, summary rows)."""
-    from .render import anchor
+    from .summary import summary_rows
 
-    blocks, summary = [("h", 2, BEYOND), ("p", INTRO)], []
+    blocks, parts = [("h", 2, BEYOND), ("p", INTRO)], []
     for it in (it for it in items if it["paper"] == BEYOND):
         item, short = item_blocks(it, data)
         blocks += item
-        summary.append([BEYOND, f"[{it['item']}](#{anchor(BEYOND + ' ' + it['item'])})", marked(short), f"`{it['rule']}`"])
-    return blocks, summary
+        parts.append((it, short))
+    return blocks, summary_rows(BEYOND, parts)

@@ -7,9 +7,9 @@ from .beyond import (BEYOND, beyond_section, compare_beyond_a2, compare_beyond_d
                      compare_beyond_mixture, compare_beyond_rough, compare_beyond_tail, compare_beyond_viscoelastic)
 from .convergence import compare_convergence, compare_rw05_table1, compare_rw05_table2
 from .hcs_tail import compare_beyond_hcs_tail_swpm
-from .numbers import VERDICT_MARKS, VERDICT_MEANING, Verdict, marked, num
-from .render import anchor
+from .numbers import VERDICT_MARKS, VERDICT_MEANING, Verdict, num
 from .swpm import SWPM, swpm_section
+from .summary import summary_rows
 from .steady import compare_effort, compare_replicas, compare_steady
 from .tails import compare_ex7_moments, compare_tails
 from .transport import TRANSPORT, compare_shear_rheology, compare_transport_coefficients, transport_section
@@ -124,19 +124,20 @@ def title_section(profile):
 
 def paper_section(paper, items, data):
     """One paper's heading, reference and items; returns (blocks, summary rows)."""
-    blocks, summary = [("h", 2, paper), ("p", PAPERS.get(paper, paper) + ".")], []
+    blocks, parts = [("h", 2, paper), ("p", PAPERS.get(paper, paper) + ".")], []
     mine = [it for it in items if it["paper"] == paper]
     if not mine:
         blocks.append(("p", TV06_PLACEHOLDER if paper == "TV06" else "No items registered."))
     for it in mine:
         item, short = item_blocks(it, data)
         blocks += item
-        summary.append([paper, f"[{it['item']}](#{anchor(paper + ' ' + it['item'])})", marked(short), f"`{it['rule']}`"])
-    return blocks, summary
+        parts.append((it, short))
+    return blocks, summary_rows(paper, parts)
 
 
 def summary_section(summary):
-    """The summary table: one row per item with its marked verdict, and the legend of the marks."""
+    """The summary table: one row per item (a figure and its table in one) with its marked verdict,
+    and the legend of the marks."""
     legend = "; ".join(f"{VERDICT_MARKS[k]} {VERDICT_MEANING[k]}" for k in VERDICT_MARKS)
     return [("h", 2, "Summary"), ("p", f"Verdicts: {legend}."),
             ("table", ["paper", "item", "verdict (computed from the numbers)", "rule"], summary)]

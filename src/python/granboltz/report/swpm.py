@@ -3,7 +3,7 @@
 and one verdict per example (granboltz.tail_swpm.swpm_verdict)."""
 
 from ..analysis.tail_swpm import swpm_verdict
-from .numbers import DASH, marked, num, pm
+from .numbers import DASH, num, pm
 
 SWPM = "Weighted particles"
 INTRO = ("GRW05 Remark 10 suggests a weighted-particle scheme (SWPM) for the tails that constant weights cannot "
@@ -48,10 +48,10 @@ def _fixed(x, ci, decimals=3):
 def swpm_section(items, data, item_blocks):
     """The section "Weighted particles": intro, the table of b, a and the depth of each example from
     the figure summaries, every item registered under that name; returns (blocks, summary rows)."""
-    from .render import anchor
+    from .summary import summary_rows
 
     mine = [it for it in items if it["paper"] == SWPM]
-    blocks, summary, rows = [("h", 2, SWPM), ("p", INTRO)], [], []
+    blocks, parts, rows = [("h", 2, SWPM), ("p", INTRO)], [], []
     for it in mine:
         s = (data["summaries"].get(it["summary"]) or {}).get("numbers")
         if not s:
@@ -74,5 +74,5 @@ def swpm_section(items, data, item_blocks):
     for it in mine:
         item, short = item_blocks(it, data)
         blocks += item
-        summary.append([SWPM, f"[{it['item']}](#{anchor(SWPM + ' ' + it['item'])})", marked(short), f"`{it['rule']}`"])
-    return blocks, summary
+        parts.append((it, short))
+    return blocks, summary_rows(SWPM, parts)

@@ -6,7 +6,7 @@ import math
 
 from ..reproduction.rheology import RHEOLOGY_COMPONENTS, rheology_verdict
 from ..reproduction.transport_table import preference_text, read_rows, sonine_preference, transport_verdict
-from .numbers import DASH, Verdict, marked, num, pm
+from .numbers import DASH, Verdict, num, pm
 
 TRANSPORT = "Transport and rheology"
 INTRO = ("Navier–Stokes transport coefficients of the homogeneous cooling state and the rheology of uniform shear "
@@ -85,12 +85,11 @@ def compare_shear_rheology(name, ours, published=None, **_):
 
 def transport_section(items, data, item_blocks):
     """The section "Transport and rheology": intro and its registered items; (blocks, summary rows)."""
-    from .render import anchor
+    from .summary import summary_rows
 
-    blocks, summary = [("h", 2, TRANSPORT), ("p", INTRO)], []
+    blocks, parts = [("h", 2, TRANSPORT), ("p", INTRO)], []
     for it in (it for it in items if it["paper"] == TRANSPORT):
         item, short = item_blocks(it, data)
         blocks += item
-        summary.append([TRANSPORT, f"[{it['item']}](#{anchor(TRANSPORT + ' ' + it['item'])})", marked(short),
-                        f"`{it['rule']}`"])
-    return blocks, summary
+        parts.append((it, short))
+    return blocks, summary_rows(TRANSPORT, parts)
