@@ -263,7 +263,7 @@ rule beyond_hcs_tail_swpm:
     input:
         runs=beyond_swpm_runs(),
     output:
-        csv=report("results/tables/beyond_hcs_tail.csv", caption=os.path.abspath(f"{config['report_dir']}/captions/beyond_hcs_tail_swpm.rst"), category="Beyond the papers"),
+        csv=report("results/tables/beyond_hcs_tail.csv", caption=item_caption("beyond_hcs_tail_swpm"), category="Beyond the papers"),
         summary="results/figures/beyond_hcs_tail_swpm.json",
     log:
         "logs/figures/beyond_hcs_tail_swpm.log",
@@ -282,8 +282,8 @@ rule beyond_haff:
     input:
         runs=beyond_runs("none", ["maxwell", "hard_spheres"], HAFF["alpha"], HAFF["ensembles"], HAFF["particles"]),
     output:
-        csv=report("results/tables/beyond_haff.csv", caption=os.path.abspath(f"{config['report_dir']}/captions/beyond_haff.rst"), category="Beyond the papers"),
-        png=report("figures/beyond_haff.png", caption=os.path.abspath(f"{config['report_dir']}/captions/beyond_haff.rst"), category="Beyond the papers"),
+        csv=report("results/tables/beyond_haff.csv", caption=item_caption("beyond_haff"), category="Beyond the papers"),
+        png=report("figures/beyond_haff.png", caption=item_caption("beyond_haff"), category="Beyond the papers"),
         pdf="figures/beyond_haff.pdf",
         summary="results/figures/beyond_haff.json",
     log:
@@ -298,8 +298,8 @@ rule beyond_a2:
     input:
         runs=beyond_runs(["gaussian", "white_noise"], ["maxwell", "hard_spheres"], A2["alphas"], A2["ensembles"], A2["particles"]),
     output:
-        csv=report("results/tables/beyond_a2.csv", caption=os.path.abspath(f"{config['report_dir']}/captions/beyond_a2.rst"), category="Beyond the papers"),
-        png=report("figures/beyond_a2.png", caption=os.path.abspath(f"{config['report_dir']}/captions/beyond_a2.rst"), category="Beyond the papers"),
+        csv=report("results/tables/beyond_a2.csv", caption=item_caption("beyond_a2"), category="Beyond the papers"),
+        png=report("figures/beyond_a2.png", caption=item_caption("beyond_a2"), category="Beyond the papers"),
         pdf="figures/beyond_a2.pdf",
         summary="results/figures/beyond_a2.json",
     log:
@@ -318,8 +318,8 @@ rule beyond_tail:
     input:
         run=beyond_runs("gaussian", "hard_spheres", TAIL["alpha"], TAIL["ensembles"], A2["particles"])[0],
     output:
-        csv=report("results/tables/beyond_hcs_tail_profile.csv", caption=os.path.abspath(f"{config['report_dir']}/captions/beyond_tail.rst"), category="Beyond the papers"),
-        png=report("figures/beyond_hcs_tail.png", caption=os.path.abspath(f"{config['report_dir']}/captions/beyond_tail.rst"), category="Beyond the papers"),
+        csv=report("results/tables/beyond_hcs_tail_profile.csv", caption=item_caption("beyond_tail"), category="Beyond the papers"),
+        png=report("figures/beyond_hcs_tail.png", caption=item_caption("beyond_tail"), category="Beyond the papers"),
         pdf="figures/beyond_hcs_tail.pdf",
         summary="results/figures/beyond_hcs_tail.json",
     log:
@@ -340,8 +340,8 @@ rule beyond_viscoelastic:
         runs=beyond_runs("none", "hard_spheres", VISCO["deltas"], VISCO["ensembles"], VISCO["particles"], "delta")
         + beyond_runs("none", "hard_spheres", [0.0], VISCO["elastic"]["ensembles"], VISCO["particles"], "delta"),
     output:
-        csv=report("results/tables/beyond_viscoelastic.csv", caption=os.path.abspath(f"{config['report_dir']}/captions/beyond_viscoelastic.rst"), category="Beyond the papers"),
-        png=report("figures/beyond_viscoelastic.png", caption=os.path.abspath(f"{config['report_dir']}/captions/beyond_viscoelastic.rst"), category="Beyond the papers"),
+        csv=report("results/tables/beyond_viscoelastic.csv", caption=item_caption("beyond_viscoelastic"), category="Beyond the papers"),
+        png=report("figures/beyond_viscoelastic.png", caption=item_caption("beyond_viscoelastic"), category="Beyond the papers"),
         pdf="figures/beyond_viscoelastic.pdf",
         summary="results/figures/beyond_viscoelastic.json",
     log:
@@ -359,8 +359,8 @@ rule beyond_disks_a2:
     input:
         runs=beyond_runs(["gaussian", "white_noise"], "hard_disks", DISKS["alphas"], DISKS["ensembles"], DISKS["particles"]),
     output:
-        csv=report("results/tables/beyond_disks_a2.csv", caption=os.path.abspath(f"{config['report_dir']}/captions/beyond_disks_a2.rst"), category="Beyond the papers"),
-        png=report("figures/beyond_disks_a2.png", caption=os.path.abspath(f"{config['report_dir']}/captions/beyond_disks_a2.rst"), category="Beyond the papers"),
+        csv=report("results/tables/beyond_disks_a2.csv", caption=item_caption("beyond_disks_a2"), category="Beyond the papers"),
+        png=report("figures/beyond_disks_a2.png", caption=item_caption("beyond_disks_a2"), category="Beyond the papers"),
         pdf="figures/beyond_disks_a2.pdf",
         summary="results/figures/beyond_disks_a2.json",
     log:
@@ -377,8 +377,8 @@ rule beyond_mixture:
     input:
         runs=beyond_mixed_runs("mixture", "gaussian", MIXTURE["mass_ratios"], MIXTURE["alphas"], MIXTURE),
     output:
-        csv=report("results/tables/beyond_mixture.csv", caption=os.path.abspath(f"{config['report_dir']}/captions/beyond_mixture.rst"), category="Beyond the papers"),
-        png=report("figures/beyond_mixture.png", caption=os.path.abspath(f"{config['report_dir']}/captions/beyond_mixture.rst"), category="Beyond the papers"),
+        csv=report("results/tables/beyond_mixture.csv", caption=item_caption("beyond_mixture"), category="Beyond the papers"),
+        png=report("figures/beyond_mixture.png", caption=item_caption("beyond_mixture"), category="Beyond the papers"),
         pdf="figures/beyond_mixture.pdf",
         summary="results/figures/beyond_mixture.json",
     log:
@@ -396,8 +396,8 @@ rule beyond_rough:
         runs=beyond_mixed_runs("rough", "gaussian", ROUGH["tangential_betas"], ROUGH["hcs_alphas"], ROUGH)
         + beyond_mixed_runs("rough", "white_noise", ROUGH["tangential_betas"], ROUGH["white_noise_alphas"], ROUGH),
     output:
-        csv=report("results/tables/beyond_rough.csv", caption=os.path.abspath(f"{config['report_dir']}/captions/beyond_rough.rst"), category="Beyond the papers"),
-        png=report("figures/beyond_rough.png", caption=os.path.abspath(f"{config['report_dir']}/captions/beyond_rough.rst"), category="Beyond the papers"),
+        csv=report("results/tables/beyond_rough.csv", caption=item_caption("beyond_rough"), category="Beyond the papers"),
+        png=report("figures/beyond_rough.png", caption=item_caption("beyond_rough"), category="Beyond the papers"),
         pdf="figures/beyond_rough.pdf",
         summary="results/figures/beyond_rough.json",
     log:

@@ -182,6 +182,12 @@ def run_benchmarks(run_rule, runs):
 REPORT_ITEMS = []
 
 
+def item_caption(rule):
+    """The Snakemake-report caption of the outputs of `rule`: written by rule report from the
+    descriptions registered with report_item(), so that each is written once."""
+    return os.path.abspath(f"{config['report_dir']}/captions/{rule}.rst")
+
+
 def report_item(paper, item, rule, kind, outputs, what, runs=(), run_rule=None, compare=None,
                 published=None, summary=None, extra=()):
     """Register a table or figure for paper/reproduction.{md,html}.

@@ -123,7 +123,7 @@ rule grw05_table1:
     input:
         runs=grw05_runs("ex3"),
     output:
-        csv=report("results/tables/grw05_table1.csv", caption=os.path.abspath(f"{config['report_dir']}/captions/grw05_table1.rst"), category="GRW05"),
+        csv=report("results/tables/grw05_table1.csv", caption=item_caption("grw05_table1"), category="GRW05"),
     log:
         "logs/tables/grw05_table1.log",
     benchmark:
@@ -136,7 +136,7 @@ rule grw05_table2:
     input:
         runs=grw05_runs("ex4"),
     output:
-        csv=report("results/tables/grw05_table2.csv", caption=os.path.abspath(f"{config['report_dir']}/captions/grw05_table2.rst"), category="GRW05"),
+        csv=report("results/tables/grw05_table2.csv", caption=item_caption("grw05_table2"), category="GRW05"),
     log:
         "logs/tables/grw05_table2.log",
     benchmark:
@@ -160,7 +160,7 @@ rule grw05_fig1:
     input:
         runs=grw05_runs("ex3", GRW05["fig1"]["particles"]),
     output:
-        png=report("figures/grw05_fig1.png", caption=os.path.abspath(f"{config['report_dir']}/captions/grw05_fig1.rst"), category="GRW05"),
+        png=report("figures/grw05_fig1.png", caption=item_caption("grw05_fig1"), category="GRW05"),
         pdf="figures/grw05_fig1.pdf",
         summary="results/figures/grw05_fig1.json",
     log:
@@ -177,7 +177,7 @@ rule grw05_fig2:
     input:
         runs=grw05_runs("ex4", GRW05["fig2"]["particles"]),
     output:
-        png=report("figures/grw05_fig2.png", caption=os.path.abspath(f"{config['report_dir']}/captions/grw05_fig2.rst"), category="GRW05"),
+        png=report("figures/grw05_fig2.png", caption=item_caption("grw05_fig2"), category="GRW05"),
         pdf="figures/grw05_fig2.pdf",
         summary="results/figures/grw05_fig2.json",
     log:
@@ -202,7 +202,7 @@ rule grw05_fig3:
     input:
         runs=grw05_runs("ex5"),
     output:
-        png=report("figures/grw05_fig3.png", caption=os.path.abspath(f"{config['report_dir']}/captions/grw05_fig3.rst"), category="GRW05"),
+        png=report("figures/grw05_fig3.png", caption=item_caption("grw05_fig3"), category="GRW05"),
         pdf="figures/grw05_fig3.pdf",
         summary="results/figures/grw05_fig3.json",
     log:
@@ -225,7 +225,7 @@ rule grw05_fig4:
     input:
         runs=grw05_runs("ex7"),
     output:
-        png=report("figures/grw05_fig4.png", caption=os.path.abspath(f"{config['report_dir']}/captions/grw05_fig4.rst"), category="GRW05"),
+        png=report("figures/grw05_fig4.png", caption=item_caption("grw05_fig4"), category="GRW05"),
         pdf="figures/grw05_fig4.pdf",
         summary="results/figures/grw05_fig4.json",
     log:
@@ -254,7 +254,7 @@ for _ex in ("ex7", "ex8", "ex9"):
         input:
             runs=grw05_runs(_ex),
         output:
-            png=report(f"figures/grw05_tail_local_{_ex}.png", caption=os.path.abspath(f"{config['report_dir']}/captions/grw05_tail_local_{_ex}.rst"),
+            png=report(f"figures/grw05_tail_local_{_ex}.png", caption=item_caption(f"grw05_tail_local_{_ex}"),
                        category="GRW05"),
             pdf=f"figures/grw05_tail_local_{_ex}.pdf",
             summary=f"results/figures/grw05_tail_local_{_ex}.json",
@@ -278,7 +278,7 @@ rule grw05_tail_exponents:
         local=[getattr(rules, f"grw05_tail_local_{ex}").output.summary for ex in ("ex7", "ex8", "ex9")],
         swpm=[f"results/figures/grw05_tail_swpm_{ex}.json" for ex in ("ex7", "ex8", "ex9")],  # grw05_swpm.smk
     output:
-        csv=report("results/tables/grw05_tail_exponents.csv", caption=os.path.abspath(f"{config['report_dir']}/captions/grw05_tail_exponents.rst"), category="GRW05"),
+        csv=report("results/tables/grw05_tail_exponents.csv", caption=item_caption("grw05_tail_exponents"), category="GRW05"),
         windows="results/tables/grw05_tail_windows.csv",
     log:
         "logs/tables/grw05_tail_exponents.log",
@@ -303,7 +303,7 @@ for _fig, _ex, _what in (
         input:
             runs=grw05_runs(_ex),
         output:
-            png=report(f"figures/grw05_fig{_fig}.png", caption=os.path.abspath(f"{config['report_dir']}/captions/grw05_fig{_fig}.rst"), category="GRW05"),
+            png=report(f"figures/grw05_fig{_fig}.png", caption=item_caption(f"grw05_fig{_fig}"), category="GRW05"),
             pdf=f"figures/grw05_fig{_fig}.pdf",
             summary=f"results/figures/grw05_fig{_fig}.json",
         log:
@@ -336,7 +336,7 @@ rule grw05_ex7_moments:
     input:
         runs=grw05_runs("ex7"),
     output:
-        csv=report("results/tables/grw05_ex7_moments.csv", caption=os.path.abspath(f"{config['report_dir']}/captions/grw05_ex7_moments.rst"),
+        csv=report("results/tables/grw05_ex7_moments.csv", caption=item_caption("grw05_ex7_moments"),
                    category="GRW05"),
         amplitude="results/tables/grw05_ex7_amplitude.csv",
     log:

@@ -98,7 +98,7 @@ for _ex in SWPM_EXAMPLES:
             swpm=grw05_swpm_runs(_ex),
             constant=grw05_runs(_ex),
         output:
-            png=report(f"figures/grw05_tail_swpm_{_ex}.png", caption=os.path.abspath(f"{config['report_dir']}/captions/grw05_tail_swpm_{_ex}.rst"),
+            png=report(f"figures/grw05_tail_swpm_{_ex}.png", caption=item_caption(f"grw05_tail_swpm_{_ex}"),
                        category="Weighted particles"),
             pdf=f"figures/grw05_tail_swpm_{_ex}.pdf",
             summary=f"results/figures/grw05_tail_swpm_{_ex}.json",
@@ -128,7 +128,7 @@ rule grw05_tail_swpm_check:
         theory=grw05_swpm_runs(SWPM["check"]["example"]),
         check=grw05_swpm_runs(SWPM_CHECK),
     output:
-        png=report("figures/grw05_tail_swpm_check.png", caption=os.path.abspath(f"{config['report_dir']}/captions/grw05_tail_swpm_check.rst"),
+        png=report("figures/grw05_tail_swpm_check.png", caption=item_caption("grw05_tail_swpm_check"),
                    category="Weighted particles"),
         pdf="figures/grw05_tail_swpm_check.pdf",
         summary="results/figures/grw05_tail_swpm_check.json",

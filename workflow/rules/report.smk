@@ -78,6 +78,7 @@ rule report:
         html=f"{config['report_dir']}/reproduction.html",
         figures=directory(f"{config['report_dir']}/figures"),
         tables=directory(f"{config['report_dir']}/tables"),
+        captions=directory(f"{config['report_dir']}/captions"),
     log:
         "logs/report.log",
     benchmark:

@@ -76,7 +76,7 @@ rule rw05_table1:
     input:
         runs=rw05_runs("transient", "nosplit", TR["ensembles"], TR["particles"]),
     output:
-        csv=report("results/tables/rw05_table1.csv", caption=os.path.abspath(f"{config['report_dir']}/captions/rw05_table1.rst"), category="RW05"),
+        csv=report("results/tables/rw05_table1.csv", caption=item_caption("rw05_table1"), category="RW05"),
     log:
         "logs/tables/rw05_table1.log",
     benchmark:
@@ -90,7 +90,7 @@ rule rw05_table2:
         euler=rw05_runs("timestep", [f"euler_K={K}" for K in TS["steps"]], TS["ensembles"], TS["particles"]),
         strang=rw05_runs("timestep", [f"strang_K={K}" for K in TS["steps"]], TS["ensembles"], TS["particles"]),
     output:
-        csv=report("results/tables/rw05_table2.csv", caption=os.path.abspath(f"{config['report_dir']}/captions/rw05_table2.rst"), category="RW05"),
+        csv=report("results/tables/rw05_table2.csv", caption=item_caption("rw05_table2"), category="RW05"),
     log:
         "logs/tables/rw05_table2.log",
     benchmark:
@@ -119,7 +119,7 @@ for _fig, _what in (("1", "no-splitting: confidence bands against eq. (28) on [0
         input:
             runs=rw05_runs("transient", "nosplit", TR["ensembles"], RW05[f"fig{_fig}"]["particles"]),
         output:
-            png=report(f"figures/rw05_fig{_fig}.png", caption=os.path.abspath(f"{config['report_dir']}/captions/rw05_fig{_fig}.rst"), category="RW05"),
+            png=report(f"figures/rw05_fig{_fig}.png", caption=item_caption(f"rw05_fig{_fig}"), category="RW05"),
             pdf=f"figures/rw05_fig{_fig}.pdf",
             summary=f"results/figures/rw05_fig{_fig}.json",
         log:
@@ -143,7 +143,7 @@ rule rw05_fig3:
                     scheme=["nosplit"] * len(RW05["crit"]["particles"]), N=RW05["crit"]["ensembles"],
                     n=RW05["crit"]["particles"]),
     output:
-        png=report("figures/rw05_fig3.png", caption=os.path.abspath(f"{config['report_dir']}/captions/rw05_fig3.rst"), category="RW05"),
+        png=report("figures/rw05_fig3.png", caption=item_caption("rw05_fig3"), category="RW05"),
         pdf="figures/rw05_fig3.pdf",
         summary="results/figures/rw05_fig3.json",
     log:
@@ -161,7 +161,7 @@ rule rw05_moments:
     input:
         runs=rules.rw05_fig3.input.runs,
     output:
-        png=report("figures/rw05_moments.png", caption=os.path.abspath(f"{config['report_dir']}/captions/rw05_moments.rst"), category="RW05"),
+        png=report("figures/rw05_moments.png", caption=item_caption("rw05_moments"), category="RW05"),
         pdf="figures/rw05_moments.pdf",
         summary="results/figures/rw05_moments.json",
         csv="results/tables/rw05_moments.csv",
@@ -180,7 +180,7 @@ rule rw05_fig4:
         runs=rw05_runs("crit_schemes", ["nosplit", f"strang_K={CS['steps']}", f"euler_K={CS['steps']}"],
                        CS["ensembles"], CS["particles"]),
     output:
-        png=report("figures/rw05_fig4.png", caption=os.path.abspath(f"{config['report_dir']}/captions/rw05_fig4.rst"), category="RW05"),
+        png=report("figures/rw05_fig4.png", caption=item_caption("rw05_fig4"), category="RW05"),
         pdf="figures/rw05_fig4.pdf",
         summary="results/figures/rw05_fig4.json",
     log:
@@ -219,7 +219,7 @@ rule rw05_steady_replicas:
         nosplit=REPLICA_RUNS["nosplit"],
         euler=REPLICA_RUNS[f"euler_K={_RS['replica_euler_steps']}"],
     output:
-        csv=report("results/tables/rw05_steady_replicas.csv", caption=os.path.abspath(f"{config['report_dir']}/captions/rw05_steady_replicas.rst"), category="RW05"),
+        csv=report("results/tables/rw05_steady_replicas.csv", caption=item_caption("rw05_steady_replicas"), category="RW05"),
     log:
         "logs/tables/rw05_steady_replicas.log",
     benchmark:
@@ -248,7 +248,7 @@ for _name, _layout, _runs, _what in (
             runs=_runs,
             nosplit=_runs[-1:] if _layout == "methods" else _steady("nosplit"),
         output:
-            csv=report(f"results/tables/rw05_{_name}.csv", caption=os.path.abspath(f"{config['report_dir']}/captions/rw05_{_name}.rst"), category="RW05"),
+            csv=report(f"results/tables/rw05_{_name}.csv", caption=item_caption(f"rw05_{_name}"), category="RW05"),
         log:
             f"logs/tables/rw05_{_name}.log",
         benchmark:
@@ -270,7 +270,7 @@ rule rw05_effort:
         runs=_steady("nosplit") + _steady("euler", RW05["steady"]["euler_steps"])
         + _steady("strang", RW05["steady"]["strang_steps"]),
     output:
-        csv=report("results/tables/rw05_effort.csv", caption=os.path.abspath(f"{config['report_dir']}/captions/rw05_effort.rst"), category="RW05"),
+        csv=report("results/tables/rw05_effort.csv", caption=item_caption("rw05_effort"), category="RW05"),
     log:
         "logs/tables/rw05_effort.log",
     benchmark:

@@ -160,8 +160,8 @@ rule transport_coefficients:
         usf=TR_USF_GAUSSIAN,
         green_kubo=TR_GK_RUNS,
     output:
-        csv=report("results/tables/transport_coefficients.csv", caption=os.path.abspath(f"{config['report_dir']}/captions/transport_coefficients.rst"), category=TRANSPORT_SECTION),
-        png=report("figures/transport_coefficients.png", caption=os.path.abspath(f"{config['report_dir']}/captions/transport_coefficients.rst"), category=TRANSPORT_SECTION),
+        csv=report("results/tables/transport_coefficients.csv", caption=item_caption("transport_coefficients"), category=TRANSPORT_SECTION),
+        png=report("figures/transport_coefficients.png", caption=item_caption("transport_coefficients"), category=TRANSPORT_SECTION),
         pdf="figures/transport_coefficients.pdf",
         summary="results/figures/transport_coefficients.json",
     log:
@@ -178,8 +178,8 @@ rule shear_rheology:
     input:
         runs=TR_USF_GAUSSIAN + TR_USF_FREE,
     output:
-        csv=report("results/tables/shear_rheology.csv", caption=os.path.abspath(f"{config['report_dir']}/captions/shear_rheology.rst"), category=TRANSPORT_SECTION),
-        png=report("figures/shear_rheology.png", caption=os.path.abspath(f"{config['report_dir']}/captions/shear_rheology.rst"), category=TRANSPORT_SECTION),
+        csv=report("results/tables/shear_rheology.csv", caption=item_caption("shear_rheology"), category=TRANSPORT_SECTION),
+        png=report("figures/shear_rheology.png", caption=item_caption("shear_rheology"), category=TRANSPORT_SECTION),
         pdf="figures/shear_rheology.pdf",
         summary="results/figures/shear_rheology.json",
     log:

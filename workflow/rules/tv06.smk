@@ -113,7 +113,7 @@ use rule run as tv06_run with:
 
 def tv06_outputs(name, csv=True):
     """The outputs of a figure step: png (in the report), pdf, the numbers (csv), the summary."""
-    out = {"png": report(f"figures/tv06_{name}.png", caption=os.path.abspath(f"{config['report_dir']}/captions/tv06_{name}.rst"), category="TV06"),
+    out = {"png": report(f"figures/tv06_{name}.png", caption=item_caption(f"tv06_{name}"), category="TV06"),
            "pdf": f"figures/tv06_{name}.pdf", "summary": f"results/figures/tv06_{name}.json"}
     if csv:
         out["csv"] = f"results/tables/tv06_{name}.csv"
@@ -294,7 +294,7 @@ rule tv06_dsmc:
         gillespie=tv06_runs("sec4_gillespie"),
         dsmc=tv06_runs("sec4_dsmc"),
     output:
-        csv=report("results/tables/tv06_dsmc.csv", caption=os.path.abspath(f"{config['report_dir']}/captions/tv06_dsmc.rst"), category="TV06"),
+        csv=report("results/tables/tv06_dsmc.csv", caption=item_caption("tv06_dsmc"), category="TV06"),
     log:
         "logs/tables/tv06_dsmc.log",
     benchmark:

@@ -66,9 +66,8 @@ for directory, paths in ((snakemake.output.figures, inp.figures),
             if os.path.exists(p):
                 shutil.copyfile(p, os.path.join(directory, os.path.basename(p)))
 # Rewritten whole, so that a caption of a rule no longer in the workflow does not linger.
-captions = os.path.join(os.path.dirname(snakemake.output.md), "captions")
-shutil.rmtree(captions, ignore_errors=True)
-os.makedirs(captions)
+captions = snakemake.output.captions
+os.makedirs(captions, exist_ok=True)
 for rule, text in item_captions(items).items():
     write_text(text, os.path.join(captions, f"{rule}.rst"))
 write_text(render_md(doc, image_prefix=""), snakemake.output.md)
