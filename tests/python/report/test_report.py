@@ -179,7 +179,8 @@ def test_report_contains_every_item_and_the_html_is_self_contained(run_script, t
     figures, tables = tmp_path / "paper" / "figures", tmp_path / "paper" / "tables"
     smk = types.SimpleNamespace(input=Input(inputs),
                                 output=types.SimpleNamespace(md=str(md), html=str(html), figures=str(figures),
-                                                             tables=str(tables)),
+                                                             tables=str(tables),
+                                                             captions=str(tmp_path / "paper" / "captions")),
                                 params=types.SimpleNamespace(manifest=items, profile="quick", config="seed: 1\n",
                                                              machine=machine),
                                 log=[str(tmp_path / "report.log")])

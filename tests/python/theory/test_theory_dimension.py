@@ -29,8 +29,8 @@ D_FREE = {
     "theory.hcs_tail": {"thermal_speed"},  # v0 = sqrt(2T/m), a definition
     "hcs_tail": {"exponential_fit", "hcs_tail_row_verdict"},
     "beyond": {"run_alpha", "haff_rows", "a2_rows", "steady_histogram", "haff_verdict", "a2_agrees", "a2_verdict",
-               "a2_item_verdict", "tail_verdict"},  # rows take d from each run's config
-    "disks": {"disk_a2_rows", "disk_judge", "disk_place", "disk_a2_verdict", "disk_item_verdict"},
+               "a2_item_verdict", "tail_verdict", "haff_item_verdict", "tail_item_verdict"},  # rows take d from each run's config
+    "disks": {"disk_a2_rows", "disk_judge", "disk_place", "disk_a2_verdict", "disk_item_verdict", "disk_summary_verdict"},
     "mixtures": {"mixture_correlation", "mixture_rows", "mixture_verdict"},
     "rough": {"rough_rows", "rough_verdict"},
     "transport": {"usf_viscosity", "correlation_integral", "read_correlation", "green_kubo"},  # a fit of runs; an integral of given data
