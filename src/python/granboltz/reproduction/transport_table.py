@@ -235,6 +235,18 @@ def elastic_limit(rows):
     return out
 
 
+def sonine_tally_text(tally, rows):
+    """The hard-sphere rows counted once each, by sonine_preference's first value: favouring a
+    version within its interval, closer to one but outside both, or with versions that part by
+    less than the interval (of which so many lie outside both)."""
+    t = lambda key: tally.get(key, 0)  # noqa: E731
+    unresolved = t(None) + t("neither within")
+    return (f"hard spheres, {rows} rows: {t('modified')} favour modified Sonine, {t('standard')} standard; "
+            f"{t('modified, neither within')} closer to modified but outside both, "
+            f"{t('standard, neither within')} closer to standard; {unresolved} not resolved "
+            f"({t('neither within')} of them outside both)")
+
+
 def transport_verdict(rows):
     """(ours, short, kind) over complete rows: kind "differs" if a lambda = 0 row lies outside
     its interval around the exact value, else "agrees" when there are exact rows, else
@@ -261,10 +273,7 @@ def transport_verdict(rows):
                      f"{r['ci']:.4f} vs standard {r['sonine_standard']:.4f} ({zs:+.1f}σ), modified "
                      f"{r['sonine_modified']:.4f} ({zm:+.1f}σ): {which}")
     if hs:
-        apart = sum(v for k, v in tally.items() if k and k.endswith("neither within"))
-        tally[None] += tally.get("neither within", 0)
-        short.append(f"hard spheres: {tally['standard']} rows favour standard, {tally['modified']} modified "
-                     f"Sonine, {apart} lie outside both, {tally[None]} not resolved")
+        short.append(sonine_tally_text(tally, len(hs)))
     for r, factor, z, z1 in elastic_limit(rows):
         resolved = abs(z) <= LAMBDA_P < abs(z1)
         parts.append(f"elastic limit: {r['coefficient']}* {r['method']} {r['value']:.4f} ± {r['ci']:.4f} vs the "
