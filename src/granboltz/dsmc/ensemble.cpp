@@ -102,9 +102,7 @@ DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, std::uint64_t seed, std::ui
   } else {
     for (auto& pair : ring_) pair = draw_pair(pairs_);
   }
-  track_stress_ = lazy() && c_.correlations.stress.on;
-  track_heat_ = lazy() && c_.correlations.heat_flux.on;
-  track_ = track_stress_ || track_heat_;
+  set_tracking();
   resum();
 }
 
@@ -236,6 +234,12 @@ inline void moment_terms(const Vec3& c, double* q) {
   q[8] = c.z * c2;
 }
 }  // namespace
+
+void DsmcEnsemble::set_tracking() {
+  track_stress_ = lazy() && c_.correlations.stress.on;
+  track_heat_ = lazy() && c_.correlations.heat_flux.on;
+  track_ = track_stress_ || track_heat_;
+}
 
 void DsmcEnsemble::resum() {
   if (!track_) return;
@@ -854,9 +858,7 @@ DsmcEnsemble::DsmcEnsemble(const DsmcConfig& config, const H5Reader& in, const s
       flight_(config.flight_of(0)),
       linear_(config.linear_flight()) {
   if (linear_) set_shear_windows();  // the window and the majorant's growth factor, as constructed
-  track_stress_ = lazy() && c_.correlations.stress.on;
-  track_heat_ = lazy() && c_.correlations.heat_flux.on;
-  track_ = track_stress_ || track_heat_;
+  set_tracking();
   StateArchive r(in, g);
   visit_state(r);
   set_majorant(u_max_);

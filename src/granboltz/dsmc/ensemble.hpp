@@ -111,6 +111,7 @@ class DsmcEnsemble {
   // drag or shear: the majorant's centre 0 (and the shear frame)
   void set_flight_frame();
   bool run_events(double s, const std::atomic<bool>* pause);  // no-splitting, no flight
+  void set_tracking();  // which moment sums are kept: once the config and flight are known
   void resum();  // sums_ anew in particle order: at each fold and stop, so round-off cannot build
   void track_pair(const Vec3& a0, const Vec3& b0, const Vec3& a1, const Vec3& b1);
   // shear, nosplit: window_, growth_ and the majorant's factor
