@@ -9,9 +9,8 @@ from the exact value is a failure (✗), the only one this table can show; a har
 favours the closer Sonine version by so many sigma (sigma = ci/lambda_p), is "not resolved"
 where the versions part by less than its interval, and "neither within" outside both.
 
-Methods (granboltz.analysis.relaxation, granboltz.analysis.transport), all under the Gaussian
-thermostat, with the HCS a2 and zeta of the first Sonine approximation for hard spheres
-(van Noije–Ernst; common to both versions, so they move the data towards neither):
+Methods (analysis.relaxation, analysis.transport), all Gaussian-thermostatted; hard spheres use
+the first Sonine HCS a2 and zeta (common to both versions, so they favour neither):
 - "relaxation": eta from a prepared shear stress; kappa and mu from the decay rate r_Q of a
   prepared heat flux (mu from the same decay through Chapman–Enskog, not from a density
   gradient). Exact for lambda = 0, the moment closure of the Sonine theories for hard spheres.
