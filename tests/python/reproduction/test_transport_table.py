@@ -149,3 +149,22 @@ def test_a_row_outside_both_sonine_intervals_says_so_and_the_elastic_limit_is_ju
                                         "outside both)") in short
     assert "eta* green_kubo 1.0170 ± 0.0050 vs the converged Chapman–Enskog 1.0160 (+0.6σ) and the first Sonine 1 (+10.9σ): resolved" in ours
     assert "kappa* relaxation" in ours and ours.endswith("differs")
+
+
+def test_usf_rows_extrapolate_the_exact_maxwell_rheology_to_the_exact_eta():
+    """Steady shear flow fed the exact lambda = 0 rheology at the profiles' rates a* = 0.03-0.09:
+    the extrapolation must return the exact eta; through a^2 alone it falls 0.4 % short."""
+    from granboltz.theory.shear import maxwell_gaussian_usf_ratios
+
+    nu = 4 * math.pi  # |S^2| gamma C at gamma = C = 1
+    runs = []
+    for reduced in (0.03, 0.06, 0.09):
+        a = reduced * nu
+        P = maxwell_gaussian_usf_ratios(0.5, a, 1.0, 1.0)
+        runs.append(types.SimpleNamespace(
+            path=f"a{reduced}", steady={"pressure_tensor": types.SimpleNamespace(mean=P, ci=np.full((3, 3), 1e-3))},
+            config={"dsmc": {"kernel": {"lambda": 0}, "alpha": 0.5, "thermostat": "gaussian", "shear": {"rate": a}}}))
+    row = transport_table.complete_rows(transport_table.usf_rows(runs))[0]
+    assert abs(row["value"] / row["exact"] - 1) < 1e-3, row
+    biased = transport_table.complete_rows(transport_table.usf_rows(runs, order=2))[0]
+    assert biased["value"] / biased["exact"] - 1 < -3e-3, biased
