@@ -42,6 +42,23 @@ def test_latex_table_is_a_booktabs_tabular():
     assert lines[-2:] == [r"\bottomrule", r"\end{tabular}"]
 
 
+def test_each_golden_latex_table_is_its_golden_csv_written_by_latex_table():
+    # check-tables compares both files of each table; a CSV updated on purpose without its .tex
+    # would otherwise show up only after make reproduce.
+    import csv
+    golden = ROOT / "tests" / "golden" / "quick_tables"
+    pairs = sorted(golden.glob("*.csv"))
+    assert pairs
+    for path in pairs:
+        tex = path.with_suffix(".tex")
+        if not tex.exists():
+            continue
+        with open(path, newline="") as f:
+            header, *rows = list(csv.reader(f))
+        body = tex.read_text().split("\n", 1)[1]  # the first line names the CSV it came from
+        assert body == latex_table(header, rows), f"{tex.name} is not {path.name} as LaTeX"
+
+
 def test_rounding_and_sigma_distances():
     assert rounding_ci("0.895e-01") == pytest.approx(3.2 * 1e-4 / math.sqrt(12))
     assert rounding_ci("2.9226") == pytest.approx(3.2 * 1e-4 / math.sqrt(12))
